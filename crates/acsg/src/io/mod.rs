@@ -1,0 +1,280 @@
+//! Reading part models from files: one submodule per format.
+//!
+//! Every reader is generic over [`std::io::Read`] and produces a [`MeshSoup`]: points
+//! and polygons exactly as the file states them. Turning a soup into a validated
+//! boundary representation is the job of [`crate::model::Part::try_new`].
+
+use std::fmt;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+
+pub mod obj;
+pub mod off;
+pub mod ply;
+pub mod stl;
+
+/// Inputs larger than this are refused before they are read (1 GiB holds a binary STL
+/// of about 21 million triangles).
+pub const MAX_INPUT_BYTES: u64 = 1 << 30;
+
+/// Points and polygons as a file states them, before any validation of the solid.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshSoup {
+    /// Point coordinates.
+    pub positions: Vec<DVec3>,
+    /// Polygons as indices into `positions`, counter-clockwise seen from outside.
+    pub polygons: Vec<Vec<u32>>,
+    /// For text formats, the 1-based line each polygon was read from.
+    pub polygon_lines: Vec<Option<usize>>,
+    /// What the format calls one polygon ("face", "triangle"), for messages.
+    pub polygon_noun: &'static str,
+}
+
+impl MeshSoup {
+    /// Names polygon `index` for a message: `face 12 (line 40)` or `triangle 3`.
+    #[must_use]
+    pub fn describe_polygon(&self, index: usize) -> String {
+        let noun = if self.polygon_noun.is_empty() {
+            "polygon"
+        } else {
+            self.polygon_noun
+        };
+        match self.polygon_lines.get(index).copied().flatten() {
+            Some(line) => format!("{noun} {index} (line {line})"),
+            None => format!("{noun} {index}"),
+        }
+    }
+}
+
+/// Where in an input a problem is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Place {
+    /// A 1-based line of a text file.
+    Line(usize),
+    /// A byte offset into a binary file.
+    Byte(u64),
+    /// The file as a whole.
+    Whole,
+}
+
+impl fmt::Display for Place {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Place::Line(line) => write!(f, "line {line}"),
+            Place::Byte(offset) => write!(f, "byte {offset}"),
+            Place::Whole => write!(f, "whole file"),
+        }
+    }
+}
+
+/// A problem found while parsing one input, before the path is known.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{place}: {problem} ({fix})")]
+pub struct ParseError {
+    /// Where the problem is.
+    pub place: Place,
+    /// What is wrong.
+    pub problem: String,
+    /// What the user can do about it.
+    pub fix: String,
+}
+
+impl ParseError {
+    /// A new parse error.
+    pub fn new(place: Place, problem: impl Into<String>, fix: impl Into<String>) -> Self {
+        Self {
+            place,
+            problem: problem.into(),
+            fix: fix.into(),
+        }
+    }
+}
+
+/// The mesh formats read by this crate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Object File Format (polygon faces).
+    Off,
+    /// Wavefront OBJ.
+    Obj,
+    /// STL, ASCII or binary.
+    Stl,
+    /// Stanford PLY, ASCII or binary.
+    Ply,
+}
+
+impl Format {
+    /// The format named by a path's extension, if any.
+    #[must_use]
+    pub fn from_extension(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "off" => Some(Format::Off),
+            "obj" => Some(Format::Obj),
+            "stl" => Some(Format::Stl),
+            "ply" => Some(Format::Ply),
+            _ => None,
+        }
+    }
+
+    /// The format a file's first bytes show, if they show one.
+    #[must_use]
+    pub fn sniff(head: &[u8]) -> Option<Format> {
+        let text = String::from_utf8_lossy(&head[..head.len().min(512)]);
+        let first = text.trim_start();
+        if first.starts_with("ply") {
+            Some(Format::Ply)
+        } else if first.starts_with("OFF") || first.starts_with("COFF") || first.starts_with("NOFF") {
+            Some(Format::Off)
+        } else if first.starts_with("solid") && text.contains("facet") {
+            Some(Format::Stl)
+        } else if text.lines().any(|l| {
+            let l = l.trim_start();
+            l.starts_with("v ") || l.starts_with("f ") || l.starts_with("o ") || l.starts_with("g ")
+        }) {
+            Some(Format::Obj)
+        } else if head.len() >= 84 {
+            // Binary STL: 80-byte header, then a little-endian triangle count that
+            // matches the length. Only trusted when the whole file is at hand.
+            let count = u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as usize;
+            (84 + 50 * count == head.len()).then_some(Format::Stl)
+        } else {
+            None
+        }
+    }
+
+    /// Parses a whole input of this format.
+    ///
+    /// # Errors
+    /// A [`ParseError`] naming the place and the fix when the input is not valid.
+    pub fn read(self, reader: impl Read) -> Result<MeshSoup, ParseError> {
+        match self {
+            Format::Off => off::read(reader),
+            Format::Obj => obj::read(reader),
+            Format::Stl => stl::read(reader),
+            Format::Ply => ply::read(reader),
+        }
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Format::Off => "OFF",
+            Format::Obj => "OBJ",
+            Format::Stl => "STL",
+            Format::Ply => "PLY",
+        })
+    }
+}
+
+/// Errors of reading a model file.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// The file could not be opened or read.
+    #[error("{path}: cannot read the file: {source} (check the path and its permissions)")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// The file holds nothing.
+    #[error("{path}: the file is empty (export the part again; a model needs at least 4 faces)")]
+    Empty {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file is larger than [`MAX_INPUT_BYTES`].
+    #[error(
+        "{path}: the file is {size} bytes, more than the {limit}-byte limit (simplify the mesh: coplanar triangles merge into one face anyway)"
+    )]
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size.
+        size: u64,
+        /// The limit.
+        limit: u64,
+    },
+    /// Neither the extension nor the content tells the format.
+    #[error("{path}: unknown model format (use a .off, .obj, .stl or .ply file)")]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The content is not valid for its format.
+    #[error("{path}: {format} {detail}")]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The format it was read as.
+        format: Format,
+        /// What is wrong, and where.
+        detail: ParseError,
+    },
+}
+
+/// Reads a model file, choosing the format by content, then by extension.
+///
+/// A file whose content clearly shows one format is read as that format even when its
+/// extension names another, so a mislabelled file still reads.
+///
+/// # Errors
+/// [`ReadError`] naming the file, the place and the fix.
+pub fn read_path(path: &Path) -> Result<MeshSoup, ReadError> {
+    let io_err = |source| ReadError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let size = std::fs::metadata(path).map_err(io_err)?.len();
+    if size > MAX_INPUT_BYTES {
+        return Err(ReadError::TooLarge {
+            path: path.to_path_buf(),
+            size,
+            limit: MAX_INPUT_BYTES,
+        });
+    }
+    let bytes = std::fs::read(path).map_err(io_err)?;
+    read_bytes(&bytes, path)
+}
+
+/// Reads a model held in memory; `path` names it in messages and gives the extension.
+///
+/// # Errors
+/// [`ReadError`] naming the file, the place and the fix.
+pub fn read_bytes(bytes: &[u8], path: &Path) -> Result<MeshSoup, ReadError> {
+    if bytes.iter().all(u8::is_ascii_whitespace) {
+        return Err(ReadError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    let format = Format::sniff(bytes)
+        .or_else(|| Format::from_extension(path))
+        .ok_or_else(|| ReadError::UnknownFormat {
+            path: path.to_path_buf(),
+        })?;
+    format.read(bytes).map_err(|detail| ReadError::Parse {
+        path: path.to_path_buf(),
+        format,
+        detail,
+    })
+}
+
+/// Checks that a coordinate triple read from `place` is finite.
+///
+/// # Errors
+/// A [`ParseError`] for NaN or infinite coordinates.
+pub fn finite_point(p: [f64; 3], place: Place) -> Result<DVec3, ParseError> {
+    if p.iter().all(|c| c.is_finite()) {
+        Ok(DVec3::from_array(p))
+    } else {
+        Err(ParseError::new(
+            place,
+            format!("the point ({}, {}, {}) is not finite", p[0], p[1], p[2]),
+            "every coordinate must be a finite number; re-export the model",
+        ))
+    }
+}

@@ -1,0 +1,11 @@
+//! stl reader (to be written).
+
+use super::{MeshSoup, ParseError};
+
+/// Reads a stl model.
+///
+/// # Errors
+/// A [`ParseError`] naming the place and the fix.
+pub fn read(_reader: impl std::io::Read) -> Result<MeshSoup, ParseError> {
+    todo!()
+}

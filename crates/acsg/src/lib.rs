@@ -1,0 +1,22 @@
+//! # acsg: Assembly Contact State Graphs of two polyhedral parts
+//!
+//! Part A is held fixed, part B is carried by a robot whose misalignment is bounded.
+//! `acsg` reads both parts, builds their exact boundary representation (faces with
+//! holes, edges, vertices, convexity, convex pieces) and, from there, the contact
+//! states that can occur within the bounds.
+//!
+//! ```
+//! use acsg::model::Part;
+//!
+//! let (fixed, moving) = acsg::examples::l_block_and_box();
+//! assert_eq!((fixed.faces().len(), fixed.edges().len(), fixed.vertices().len()), (8, 18, 12));
+//! assert_eq!(acsg::model::ppc_count(&fixed, &moving).total(), 328);
+//! ```
+#![warn(missing_docs)]
+
+pub mod convex;
+pub mod examples;
+pub mod io;
+pub mod model;
+pub mod tolerance;
+pub mod topology;

@@ -1,0 +1,75 @@
+//! Element ids: small `Copy` handles into a [`Part`](crate::model::Part)'s arrays,
+//! usable as hash keys (in the spirit of parry's `FeatureId`).
+
+use std::fmt;
+
+macro_rules! element_id {
+    ($(#[$doc:meta])* $name:ident, $prefix:literal) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+        pub struct $name(pub u32);
+
+        impl $name {
+            /// The index into the part's array of this kind of element.
+            #[must_use]
+            pub fn index(self) -> usize {
+                self.0 as usize
+            }
+        }
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, concat!($prefix, "{}"), self.0)
+            }
+        }
+    };
+}
+
+element_id!(
+    /// A face of a part, displayed as `f3`.
+    FaceId,
+    "f"
+);
+element_id!(
+    /// An edge of a part, displayed as `e5`.
+    EdgeId,
+    "e"
+);
+element_id!(
+    /// A vertex of a part, displayed as `v7`.
+    VertexId,
+    "v"
+);
+
+/// Any surface element of a part.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum ElementId {
+    /// A face.
+    Face(FaceId),
+    /// An edge.
+    Edge(EdgeId),
+    /// A vertex.
+    Vertex(VertexId),
+}
+
+impl fmt::Display for ElementId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ElementId::Face(id) => id.fmt(f),
+            ElementId::Edge(id) => id.fmt(f),
+            ElementId::Vertex(id) => id.fmt(f),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_display_with_their_kind_prefix() {
+        assert_eq!(FaceId(3).to_string(), "f3");
+        assert_eq!(ElementId::Edge(EdgeId(5)).to_string(), "e5");
+        assert_eq!(ElementId::Vertex(VertexId(7)).to_string(), "v7");
+    }
+}

@@ -1,0 +1,212 @@
+//! The boundary representation of one part.
+
+use glam::DVec3;
+
+use super::ids::{EdgeId, FaceId, VertexId};
+use crate::convex::ConvexPolytope;
+
+/// A vertex: a point where three or more faces meet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Vertex {
+    /// Position in the part's frame.
+    pub position: DVec3,
+    /// Whether the solid is locally convex here (DOMAIN.md section 2).
+    pub convex: bool,
+    /// Incident edges, sorted.
+    pub edges: Vec<EdgeId>,
+    /// Incident faces, sorted.
+    pub faces: Vec<FaceId>,
+}
+
+/// An edge: a maximal straight segment between two faces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Edge {
+    /// End points, `vertices[0] < vertices[1]`.
+    pub vertices: [VertexId; 2],
+    /// `faces[0]` has this edge in one of its loops running from `vertices[0]` to
+    /// `vertices[1]`; `faces[1]` runs it the other way.
+    pub faces: [FaceId; 2],
+    /// Whether the solid's interior dihedral angle here is below 180 degrees.
+    pub convex: bool,
+}
+
+/// A closed boundary loop of a face.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Loop {
+    /// Corners in order, the face's interior on the left seen from outside (outer loop
+    /// counter-clockwise, holes clockwise).
+    pub vertices: Vec<VertexId>,
+    /// `edges[i]` joins `vertices[i]` and `vertices[(i + 1) % n]`.
+    pub edges: Vec<EdgeId>,
+}
+
+/// A face: a maximal planar connected region of the boundary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Face {
+    /// Outward unit normal.
+    pub normal: DVec3,
+    /// Plane offset: points `p` of the face satisfy `normal · p = offset`.
+    pub offset: f64,
+    /// The outer loop first, then one loop per hole.
+    pub loops: Vec<Loop>,
+    /// Area (outer loop minus holes).
+    pub area: f64,
+    /// A triangulation of the face over its own vertices.
+    pub triangles: Vec<[VertexId; 3]>,
+}
+
+impl Face {
+    /// The outer boundary loop.
+    #[must_use]
+    pub fn outer(&self) -> &Loop {
+        &self.loops[0]
+    }
+
+    /// The hole loops.
+    #[must_use]
+    pub fn holes(&self) -> &[Loop] {
+        &self.loops[1..]
+    }
+
+    /// Signed distance of `p` from the face's plane (positive outside the solid).
+    #[must_use]
+    pub fn signed_distance(&self, p: DVec3) -> f64 {
+        self.normal.dot(p) - self.offset
+    }
+}
+
+/// An axis-aligned bounding box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Smallest corner.
+    pub min: DVec3,
+    /// Largest corner.
+    pub max: DVec3,
+}
+
+impl Aabb {
+    /// The box around some points (empty input gives an inverted box at the origin).
+    #[must_use]
+    pub fn around(points: impl IntoIterator<Item = DVec3>) -> Aabb {
+        let mut it = points.into_iter();
+        let Some(first) = it.next() else {
+            return Aabb {
+                min: DVec3::ZERO,
+                max: DVec3::ZERO,
+            };
+        };
+        it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
+            min: b.min.min(p),
+            max: b.max.max(p),
+        })
+    }
+
+    /// Length of the diagonal.
+    #[must_use]
+    pub fn diagonal(&self) -> f64 {
+        (self.max - self.min).length()
+    }
+}
+
+/// A validated polyhedral solid: faces (possibly non-convex, possibly with holes),
+/// edges, vertices, their adjacency and convexity, and an exact decomposition into
+/// convex pieces.
+///
+/// Build one with [`Part::try_new`] or [`Part::from_path`].
+#[derive(Clone, Debug)]
+pub struct Part {
+    pub(crate) name: String,
+    pub(crate) vertices: Vec<Vertex>,
+    pub(crate) edges: Vec<Edge>,
+    pub(crate) faces: Vec<Face>,
+    pub(crate) pieces: Vec<ConvexPolytope>,
+    pub(crate) bounds: Aabb,
+    pub(crate) volume: f64,
+}
+
+impl Part {
+    /// The name given at construction (usually the file path).
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+    /// The vertices, indexed by [`VertexId`].
+    #[must_use]
+    pub fn vertices(&self) -> &[Vertex] {
+        &self.vertices
+    }
+    /// The edges, indexed by [`EdgeId`].
+    #[must_use]
+    pub fn edges(&self) -> &[Edge] {
+        &self.edges
+    }
+    /// The faces, indexed by [`FaceId`].
+    #[must_use]
+    pub fn faces(&self) -> &[Face] {
+        &self.faces
+    }
+    /// One vertex.
+    #[must_use]
+    pub fn vertex(&self, id: VertexId) -> &Vertex {
+        &self.vertices[id.index()]
+    }
+    /// One edge.
+    #[must_use]
+    pub fn edge(&self, id: EdgeId) -> &Edge {
+        &self.edges[id.index()]
+    }
+    /// One face.
+    #[must_use]
+    pub fn face(&self, id: FaceId) -> &Face {
+        &self.faces[id.index()]
+    }
+    /// The exact convex pieces whose union is the solid (interiors disjoint).
+    #[must_use]
+    pub fn convex_pieces(&self) -> &[ConvexPolytope] {
+        &self.pieces
+    }
+    /// The bounding box.
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+    /// The enclosed volume.
+    #[must_use]
+    pub fn volume(&self) -> f64 {
+        self.volume
+    }
+    /// The two end points of an edge.
+    #[must_use]
+    pub fn edge_points(&self, id: EdgeId) -> [DVec3; 2] {
+        let [a, b] = self.edge(id).vertices;
+        [self.vertex(a).position, self.vertex(b).position]
+    }
+    /// Ids of the convex vertices.
+    pub fn convex_vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
+        (0..self.vertices.len() as u32)
+            .map(VertexId)
+            .filter(|&v| self.vertex(v).convex)
+    }
+    /// Ids of the convex edges.
+    pub fn convex_edges(&self) -> impl Iterator<Item = EdgeId> + '_ {
+        (0..self.edges.len() as u32)
+            .map(EdgeId)
+            .filter(|&e| self.edge(e).convex)
+    }
+    /// Whether a face's outer outline has a reflex corner.
+    #[must_use]
+    pub fn face_outline_is_nonconvex(&self, id: FaceId) -> bool {
+        let face = self.face(id);
+        let outer = &face.outer().vertices;
+        (0..outer.len()).any(|i| !self.corner_is_convex(id, outer, i))
+    }
+
+    /// Whether the corner at `corners[i]` of a loop of face `id` turns left (the face's
+    /// interior angle there is below 180 degrees).
+    pub(crate) fn corner_is_convex(&self, id: FaceId, corners: &[VertexId], i: usize) -> bool {
+        let n = corners.len();
+        let p = |k: usize| self.vertex(corners[k % n]).position;
+        let (prev, here, next) = (p(i + n - 1), p(i), p(i + 1));
+        (here - prev).cross(next - here).dot(self.face(id).normal) > 0.0
+    }
+}

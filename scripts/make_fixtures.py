@@ -1,0 +1,981 @@
+#!/usr/bin/env python3
+"""Write the small fixture models used by the acsg tests into fixtures/.
+
+Python 3.11, standard library only, deterministic (same bytes every run).
+Run from anywhere:  python3 scripts/make_fixtures.py
+
+All good models are closed, consistently oriented solids whose polygons wind
+counter-clockwise seen from outside (outward normals by the right-hand rule).
+Coordinates are integers or exact binary fractions, kept as `Fraction` while
+computing and written with integer / shortest round-trip float formatting, so
+every text file is exact.
+
+After writing, the script re-reads every file it wrote and checks it
+independently (signed volume by the divergence theorem against the analytic
+volume, every undirected edge used exactly twice in opposite directions, and
+B-rep counts recovered from the refined STL against the hand-derived table in
+fixtures/README.md).  Bad-input fixtures are checked to carry their defect.
+Any failed check raises SystemExit with a non-zero status.
+"""
+
+from __future__ import annotations
+
+import math
+import struct
+import sys
+from fractions import Fraction
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+OUT = ROOT / "fixtures"
+BAD = OUT / "bad"
+
+F = Fraction
+
+
+# --------------------------------------------------------------------------
+# formatting
+# --------------------------------------------------------------------------
+
+def fmt(x) -> str:
+    """Integers as '150', other values as the shortest round-trip float."""
+    if isinstance(x, Fraction):
+        if x.denominator == 1:
+            return str(x.numerator)
+        fx = float(x)
+        assert Fraction(fx) == x, f"{x} is not exactly representable"
+        return repr(fx)
+    if isinstance(x, int):
+        return str(x)
+    x = float(x)
+    if math.isfinite(x) and x.is_integer():
+        return str(int(x))  # also turns -0.0 into 0
+    return repr(x)
+
+
+def fmt3(p) -> str:
+    return " ".join(fmt(c) for c in p)
+
+
+# --------------------------------------------------------------------------
+# vector helpers (exact, on tuples of Fractions)
+# --------------------------------------------------------------------------
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0])
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def newell(pts):
+    """Newell normal (twice the vector area) of a polygon."""
+    n = [F(0), F(0), F(0)]
+    k = len(pts)
+    for i in range(k):
+        x0, y0, z0 = pts[i]
+        x1, y1, z1 = pts[(i + 1) % k]
+        n[0] += (y0 - y1) * (z0 + z1)
+        n[1] += (z0 - z1) * (x0 + x1)
+        n[2] += (x0 - x1) * (y0 + y1)
+    return tuple(n)
+
+
+def is_zero(v):
+    return v[0] == 0 and v[1] == 0 and v[2] == 0
+
+
+# --------------------------------------------------------------------------
+# mesh model: vertices (Fraction triples) + polygons (index lists)
+# --------------------------------------------------------------------------
+
+class Mesh:
+    def __init__(self, name, verts, polys):
+        self.name = name
+        self.verts = [tuple(F(c) for c in v) for v in verts]
+        self.polys = [list(p) for p in polys]
+
+
+def box_mesh(name, x0, x1, y0, y1, z0, z1):
+    xs, ys, zs = (x0, x1), (y0, y1), (z0, z1)
+    # vertex index = ix + 2*iy + 4*iz
+    verts = [(xs[i & 1], ys[(i >> 1) & 1], zs[(i >> 2) & 1]) for i in range(8)]
+
+    def v(ix, iy, iz):
+        return ix + 2 * iy + 4 * iz
+
+    polys = [
+        [v(0, 0, 0), v(0, 1, 0), v(1, 1, 0), v(1, 0, 0)],  # -z bottom
+        [v(0, 0, 1), v(1, 0, 1), v(1, 1, 1), v(0, 1, 1)],  # +z top
+        [v(0, 0, 0), v(1, 0, 0), v(1, 0, 1), v(0, 0, 1)],  # -y front
+        [v(0, 1, 0), v(0, 1, 1), v(1, 1, 1), v(1, 1, 0)],  # +y back
+        [v(0, 0, 0), v(0, 0, 1), v(0, 1, 1), v(0, 1, 0)],  # -x left
+        [v(1, 0, 0), v(1, 1, 0), v(1, 1, 1), v(1, 0, 1)],  # +x right
+    ]
+    return Mesh(name, verts, polys)
+
+
+def l_block_mesh():
+    # profile in the xz-plane; CCW in (x, z) coordinates means normal x^ x z^ = -y
+    prof = [(0, 0), (200, 0), (200, 150), (150, 150), (150, 50), (0, 50)]
+    n = len(prof)
+    verts = [(x, 0, z) for x, z in prof] + [(x, 100, z) for x, z in prof]
+    polys = [list(range(n)),                               # y=0 cap, normal -y
+             [n + i for i in reversed(range(n))]]          # y=100 cap, normal +y
+    for i in range(n):
+        j = (i + 1) % n
+        polys.append([j, i, n + i, n + j])                 # side faces
+    return Mesh("l_block", verts, polys)
+
+
+def block_with_hole_mesh():
+    outer = [(0, 0), (100, 0), (100, 100), (0, 100)]
+    inner = [(35, 35), (65, 35), (65, 65), (35, 65)]
+    verts = []
+    for z in (0, 50):
+        verts += [(x, y, z) for x, y in outer]             # 0..3 / 8..11
+        verts += [(x, y, z) for x, y in inner]             # 4..7 / 12..15
+
+    def o(i, top):
+        return i % 4 + (8 if top else 0)
+
+    def h(i, top):
+        return 4 + i % 4 + (8 if top else 0)
+
+    polys = []
+    for i in range(4):
+        j = i + 1
+        # top (z=50, normal +z): trapezoid outer i -> outer j -> inner j -> inner i
+        polys.append([o(i, 1), o(j, 1), h(j, 1), h(i, 1)])
+    for i in range(4):
+        j = i + 1
+        # bottom (z=0, normal -z): reversed
+        polys.append([h(i, 0), h(j, 0), o(j, 0), o(i, 0)])
+    for i in range(4):
+        j = i + 1
+        # outer walls, outward
+        polys.append([o(i, 0), o(j, 0), o(j, 1), o(i, 1)])
+    for i in range(4):
+        j = i + 1
+        # hole walls, normals point into the hole (away from the material)
+        polys.append([h(j, 0), h(i, 0), h(i, 1), h(j, 1)])
+    return Mesh("block_with_hole", verts, polys)
+
+
+# --------------------------------------------------------------------------
+# triangulation and refinement
+# --------------------------------------------------------------------------
+
+def is_convex_poly(pts):
+    n = newell(pts)
+    k = len(pts)
+    for i in range(k):
+        a, b, c = pts[i - 1], pts[i], pts[(i + 1) % k]
+        if dot(cross(sub(b, a), sub(c, b)), n) <= 0:
+            return False
+    return True
+
+
+def ear_clip(pts):
+    """Triangulate a simple planar polygon (indices into pts), CCW w.r.t. its normal."""
+    n = newell(pts)
+    idx = list(range(len(pts)))
+    tris = []
+
+    def inside(p, a, b, c):
+        return (dot(cross(sub(b, a), sub(p, a)), n) >= 0 and
+                dot(cross(sub(c, b), sub(p, b)), n) >= 0 and
+                dot(cross(sub(a, c), sub(p, c)), n) >= 0)
+
+    while len(idx) > 3:
+        for k in range(len(idx)):
+            ia, ib, ic = idx[k - 1], idx[k], idx[(k + 1) % len(idx)]
+            a, b, c = pts[ia], pts[ib], pts[ic]
+            if dot(cross(sub(b, a), sub(c, b)), n) <= 0:
+                continue  # reflex or degenerate corner
+            if any(inside(pts[j], a, b, c) for j in idx if j not in (ia, ib, ic)):
+                continue
+            tris.append((ia, ib, ic))
+            idx.pop(k)
+            break
+        else:
+            raise RuntimeError("ear clipping failed")
+    tris.append(tuple(idx))
+    return tris
+
+
+def triangulate(mesh):
+    tris = []
+    for poly in mesh.polys:
+        pts = [mesh.verts[i] for i in poly]
+        if is_convex_poly(pts):
+            local = [(0, k, k + 1) for k in range(1, len(poly) - 1)]  # fan
+        else:
+            local = ear_clip(pts)
+        tris += [tuple(poly[i] for i in t) for t in local]
+    return list(mesh.verts), tris
+
+
+def subdivide(verts, tris):
+    """One round of 1-to-4 midpoint subdivision with shared midpoints."""
+    verts = list(verts)
+    mids = {}
+
+    def mid(a, b):
+        key = (min(a, b), max(a, b))
+        if key not in mids:
+            pa, pb = verts[a], verts[b]
+            verts.append(tuple((pa[k] + pb[k]) / 2 for k in range(3)))
+            mids[key] = len(verts) - 1
+        return mids[key]
+
+    out = []
+    for a, b, c in tris:
+        ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+        out += [(a, ab, ca), (ab, b, bc), (ca, bc, c), (ab, bc, ca)]
+    return verts, out
+
+
+def unit_normal(p0, p1, p2):
+    n = cross(sub(p1, p0), sub(p2, p0))
+    nf = [float(c) for c in n]
+    ln = math.sqrt(sum(c * c for c in nf))
+    return [c / ln for c in nf] if ln > 0 else [0.0, 0.0, 0.0]
+
+
+# --------------------------------------------------------------------------
+# writers
+# --------------------------------------------------------------------------
+
+def off_text(verts, polys, comment=None):
+    lines = ["OFF"]
+    if comment:
+        lines.append("# " + comment)
+    lines.append(f"{len(verts)} {len(polys)} 0")
+    lines += [fmt3(v) if not isinstance(v, str) else v for v in verts]
+    lines += [" ".join([str(len(p))] + [str(i) for i in p]) for p in polys]
+    return "\n".join(lines) + "\n"
+
+
+def obj_text(name, verts, polys, comment=None):
+    lines = []
+    if comment:
+        lines.append("# " + comment)
+    lines.append(f"o {name}")
+    lines += ["v " + (fmt3(v) if not isinstance(v, str) else v) for v in verts]
+    lines += ["f " + " ".join(str(i + 1) for i in p) for p in polys]
+    return "\n".join(lines) + "\n"
+
+
+def stl_ascii_text(name, verts, tris):
+    lines = [f"solid {name}"]
+    for t in tris:
+        p = [verts[i] for i in t]
+        lines.append("  facet normal " + fmt3(unit_normal(*p)))
+        lines.append("    outer loop")
+        lines += ["      vertex " + fmt3(q) for q in p]
+        lines.append("    endloop")
+        lines.append("  endfacet")
+    lines.append(f"endsolid {name}")
+    return "\n".join(lines) + "\n"
+
+
+def stl_binary_bytes(name, verts, tris, declared=None):
+    header = f"binary STL {name} (acsg fixture)".encode("ascii")
+    assert not header.startswith(b"solid")
+    header = header.ljust(80, b" ")
+    out = bytearray(header)
+    out += struct.pack("<I", len(tris) if declared is None else declared)
+    for t in tris:
+        p = [verts[i] for i in t]
+        vals = unit_normal(*p) + [float(c) for q in p for c in q]
+        for q in p:
+            for c in q:
+                assert Fraction(struct.unpack("<f", struct.pack("<f", float(c)))[0]) == c
+        out += struct.pack("<12fH", *vals, 0)
+    return bytes(out)
+
+
+def ply_text(verts, polys):
+    lines = ["ply", "format ascii 1.0", "comment acsg fixture l_block",
+             f"element vertex {len(verts)}",
+             "property float x", "property float y", "property float z",
+             f"element face {len(polys)}",
+             "property list uchar int vertex_indices", "end_header"]
+    lines += [fmt3(v) for v in verts]
+    lines += [" ".join([str(len(p))] + [str(i) for i in p]) for p in polys]
+    return "\n".join(lines) + "\n"
+
+
+WRITTEN: list[Path] = []
+
+
+def write(path: Path, data):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if isinstance(data, str):
+        data = data.encode("ascii")
+    path.write_bytes(data)
+    WRITTEN.append(path)
+
+
+# --------------------------------------------------------------------------
+# readers (independent of the writers; used by the self-check)
+# --------------------------------------------------------------------------
+
+class ParseError(Exception):
+    pass
+
+
+def num(tok):
+    try:
+        v = float(tok)
+    except ValueError:
+        raise ParseError(f"not a number: {tok!r}")
+    if not math.isfinite(v):
+        raise ParseError(f"non-finite coordinate: {tok!r}")
+    return Fraction(v)
+
+
+def read_off(path):
+    toks = []
+    for line in path.read_text("ascii").splitlines():
+        line = line.split("#", 1)[0]
+        toks += line.split()
+    if not toks:
+        raise ParseError("empty file")
+    if toks[0] != "OFF":
+        raise ParseError("missing OFF header")
+    nv, nf = int(toks[1]), int(toks[2])
+    pos = 4
+    verts = []
+    for _ in range(nv):
+        verts.append(tuple(num(t) for t in toks[pos:pos + 3]))
+        pos += 3
+    polys = []
+    for _ in range(nf):
+        k = int(toks[pos])
+        p = [int(t) for t in toks[pos + 1:pos + 1 + k]]
+        pos += 1 + k
+        if any(i < 0 or i >= nv for i in p):
+            raise ParseError(f"vertex index out of range in face {p}")
+        polys.append(p)
+    if pos != len(toks):
+        raise ParseError("trailing tokens")
+    return verts, polys
+
+
+def read_obj(path):
+    verts, polys, names = [], [], []
+    for line in path.read_text("ascii").splitlines():
+        t = line.split()
+        if not t or t[0].startswith("#"):
+            continue
+        if t[0] == "v":
+            verts.append(tuple(num(x) for x in t[1:4]))
+        elif t[0] == "f":
+            p = [int(x.split("/")[0]) - 1 for x in t[1:]]
+            if any(i < 0 or i >= len(verts) for i in p):
+                raise ParseError("bad index")
+            polys.append(p)
+        elif t[0] == "o":
+            names.append(t[1])
+        else:
+            raise ParseError(f"unexpected line {line!r}")
+    return verts, polys, names
+
+
+def read_ply(path):
+    lines = path.read_text("ascii").splitlines()
+    end = lines.index("end_header")
+    head = lines[:end]
+    assert head[0] == "ply" and head[1] == "format ascii 1.0"
+    nv = nf = None
+    for h in head:
+        t = h.split()
+        if t[:2] == ["element", "vertex"]:
+            nv = int(t[2])
+        if t[:2] == ["element", "face"]:
+            nf = int(t[2])
+    assert "property list uchar int vertex_indices" in head
+    body = lines[end + 1:]
+    verts = [tuple(num(x) for x in l.split()) for l in body[:nv]]
+    polys = []
+    for l in body[nv:nv + nf]:
+        t = [int(x) for x in l.split()]
+        assert t[0] == len(t) - 1
+        polys.append(t[1:])
+    assert len(body) == nv + nf
+    return verts, polys
+
+
+def read_stl_ascii(path):
+    """Returns a list of (normal, (p0, p1, p2)) with exact coordinates."""
+    toks = path.read_text("ascii").split()
+    if not toks:
+        raise ParseError("empty file")
+    assert toks[0] == "solid"
+    facets = []
+    i = 2
+    while toks[i] == "facet":
+        assert toks[i + 1] == "normal"
+        n = tuple(float(x) for x in toks[i + 2:i + 5])
+        assert toks[i + 5:i + 7] == ["outer", "loop"]
+        i += 7
+        pts = []
+        for _ in range(3):
+            assert toks[i] == "vertex"
+            pts.append(tuple(num(x) for x in toks[i + 1:i + 4]))
+            i += 4
+        assert toks[i:i + 2] == ["endloop", "endfacet"]
+        i += 2
+        facets.append((n, tuple(pts)))
+    assert toks[i] == "endsolid" and i + 2 == len(toks)
+    return facets
+
+
+def read_stl_binary(path):
+    data = path.read_bytes()
+    if data[:5] == b"solid":
+        raise ParseError("binary STL header starts with 'solid'")
+    if len(data) < 84:
+        raise ParseError("too short")
+    (n,) = struct.unpack_from("<I", data, 80)
+    if len(data) != 84 + 50 * n:
+        raise ParseError(f"size {len(data)} != 84 + 50*{n}")
+    facets = []
+    for k in range(n):
+        vals = struct.unpack_from("<12fH", data, 84 + 50 * k)
+        pts = tuple(tuple(Fraction(c) for c in vals[3 + 3 * j:6 + 3 * j]) for j in range(3))
+        facets.append((vals[0:3], pts))
+    return facets
+
+
+def facets_to_mesh(facets):
+    """Merge STL facet corners by exact coordinate."""
+    index, verts, tris = {}, [], []
+    for _, pts in facets:
+        t = []
+        for p in pts:
+            if p not in index:
+                index[p] = len(verts)
+                verts.append(p)
+            t.append(index[p])
+        tris.append(tuple(t))
+    return verts, tris
+
+
+# --------------------------------------------------------------------------
+# checks
+# --------------------------------------------------------------------------
+
+def directed_edges(polys):
+    out = []
+    for p in polys:
+        for k in range(len(p)):
+            out.append((p[k], p[(k + 1) % len(p)]))
+    return out
+
+
+def edge_report(polys):
+    """Returns (ok, problems): ok iff every undirected edge is used exactly twice,
+    once in each direction."""
+    use = {}
+    for a, b in directed_edges(polys):
+        use.setdefault((min(a, b), max(a, b)), []).append((a, b))
+    problems = []
+    for key, ds in use.items():
+        if len(ds) != 2:
+            problems.append(("count", key, len(ds)))
+        elif ds[0] == ds[1]:
+            problems.append(("same-direction", key, 2))
+    return not problems, problems
+
+
+def signed_volume(verts, polys):
+    vol = Fraction(0)
+    for p in polys:
+        for k in range(1, len(p) - 1):  # fan; exact for planar polygons
+            a, b, c = verts[p[0]], verts[p[k]], verts[p[k + 1]]
+            vol += dot(a, cross(b, c))
+    return vol / 6
+
+
+def shells(nv, polys):
+    parent = list(range(nv))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for p in polys:
+        for i in p[1:]:
+            parent[find(i)] = find(p[0])
+    used = {i for p in polys for i in p}
+    return len({find(i) for i in used})
+
+
+def planar(verts, poly):
+    pts = [verts[i] for i in poly]
+    n = newell(pts)
+    return all(dot(n, sub(q, pts[0])) == 0 for q in pts)
+
+
+def brep_counts(verts, tris):
+    """Recover B-rep counts from a (refined) triangle mesh: group coplanar
+    edge-adjacent triangles into faces, find feature edges between different
+    faces, B-rep vertices = mesh vertices touching >= 3 faces, B-rep edges =
+    chains of feature mesh edges between B-rep vertices, convexity from the
+    dihedral sign.  Returns (faces, faces_with_holes, vertices, convex_vertices,
+    edges, convex_edges, concave_edges)."""
+    nt = len(tris)
+    normals = [cross(sub(verts[b], verts[a]), sub(verts[c], verts[a])) for a, b, c in tris]
+    edge_tris = {}
+    for t, (a, b, c) in enumerate(tris):
+        for u, v in ((a, b), (b, c), (c, a)):
+            edge_tris.setdefault((min(u, v), max(u, v)), []).append((t, u, v))
+    parent = list(range(nt))
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    def coplanar(t1, t2):
+        return is_zero(cross(normals[t1], normals[t2])) and dot(normals[t1], normals[t2]) > 0
+
+    for key, lst in edge_tris.items():
+        assert len(lst) == 2, "mesh not 2-manifold"
+        (t1, _, _), (t2, _, _) = lst
+        if coplanar(t1, t2):
+            parent[find(t1)] = find(t2)
+    face_of = [find(t) for t in range(nt)]
+    faces = sorted(set(face_of))
+
+    # feature edges and their convexity
+    feature = {}
+    for key, lst in edge_tris.items():
+        (t1, u, v), (t2, _, _) = lst
+        if face_of[t1] == face_of[t2]:
+            continue
+        third = [w for w in tris[t2] if w not in key][0]
+        s = dot(normals[t1], sub(verts[third], verts[u]))
+        assert s != 0
+        feature[key] = s < 0  # True = convex
+
+    # B-rep vertices: touch >= 3 faces
+    vfaces = {}
+    for t, tri in enumerate(tris):
+        for w in tri:
+            vfaces.setdefault(w, set()).add(face_of[t])
+    bverts = {w for w, fs in vfaces.items() if len(fs) >= 3}
+
+    # B-rep edges: union feature mesh edges through non-B-rep vertices
+    keys = list(feature)
+    kparent = {k: k for k in keys}
+
+    def kfind(x):
+        while kparent[x] != x:
+            kparent[x] = kparent[kparent[x]]
+            x = kparent[x]
+        return x
+
+    at_vertex = {}
+    for k in keys:
+        for w in k:
+            if w not in bverts:
+                at_vertex.setdefault(w, []).append(k)
+    for w, ks in at_vertex.items():
+        assert len(ks) == 2
+        kparent[kfind(ks[0])] = kfind(ks[1])
+    chains = {}
+    for k in keys:
+        chains.setdefault(kfind(k), []).append(feature[k])
+    edge_convex = {}
+    for root, flags in chains.items():
+        assert all(f == flags[0] for f in flags), "edge changes convexity"
+        edge_convex[root] = flags[0]
+    n_edges = len(edge_convex)
+    n_convex_edges = sum(1 for c in edge_convex.values() if c)
+
+    # convex vertex: every incident B-rep edge convex
+    n_convex_verts = 0
+    for w in bverts:
+        inc = [edge_convex[kfind(k)] for k in keys if w in k]
+        if all(inc):
+            n_convex_verts += 1
+
+    # faces with holes: more than one boundary loop
+    n_holed = 0
+    for f in faces:
+        bedges = [k for k, lst in edge_tris.items()
+                  if sum(1 for (t, _, _) in lst if face_of[t] == f) == 1]
+        p = {}
+
+        def pf(x):
+            while p.setdefault(x, x) != x:
+                x = p[x]
+            return x
+
+        for a, b in bedges:
+            p[pf(a)] = pf(b)
+        loops = len({pf(w) for e in bedges for w in e})
+        if loops > 1:
+            n_holed += 1
+
+    return (len(faces), n_holed, len(bverts), n_convex_verts,
+            n_edges, n_convex_edges, n_edges - n_convex_edges)
+
+
+FAILURES: list[str] = []
+
+
+def check(cond, msg):
+    if not cond:
+        FAILURES.append(msg)
+    return cond
+
+
+# --------------------------------------------------------------------------
+# models
+# --------------------------------------------------------------------------
+
+GOOD = [
+    # mesh, analytic volume, hand-derived B-rep counts
+    # (faces, faces_with_holes, vertices, convex_vertices, edges, convex_edges, concave_edges)
+    (l_block_mesh(), 200 * 50 * 100 + 50 * 100 * 100, (8, 0, 12, 10, 18, 17, 1)),
+    (box_mesh("box", 50, 150, 10, 90, 50, 150), 100 * 80 * 100, (6, 0, 8, 8, 12, 12, 0)),
+    (block_with_hole_mesh(), 100 * 100 * 50 - 30 * 30 * 50, (10, 2, 16, 8, 24, 20, 4)),
+    (box_mesh("peg", 36, 64, 36, 64, 10, 90), 28 * 28 * 80, (6, 0, 8, 8, 12, 12, 0)),
+    (box_mesh("cube", 0, 10, 0, 10, 0, 10), 1000, (6, 0, 8, 8, 12, 12, 0)),
+    (box_mesh("slab", -100, 100, -100, 100, -10, 0), 200 * 200 * 10, (6, 0, 8, 8, 12, 12, 0)),
+]
+BINARY = {"l_block", "box"}
+PLY = {"l_block"}
+
+
+def write_good():
+    for mesh, _, _ in GOOD:
+        n = mesh.name
+        write(OUT / f"{n}.off", off_text(mesh.verts, mesh.polys))
+        write(OUT / f"{n}.obj", obj_text(n, mesh.verts, mesh.polys))
+        v, t = triangulate(mesh)
+        v1, t1 = subdivide(v, t)
+        write(OUT / f"{n}.stl", stl_ascii_text(n, v1, t1))
+        if n in BINARY:
+            v2, t2 = subdivide(v1, t1)
+            write(OUT / f"{n}_binary.stl", stl_binary_bytes(n, v2, t2))
+        if n in PLY:
+            write(OUT / f"{n}.ply", ply_text(mesh.verts, mesh.polys))
+
+
+def write_bad():
+    cube = box_mesh("cube", 0, 10, 0, 10, 0, 10)
+    cv, cp = cube.verts, cube.polys
+    TOP = 1  # index of the +z face in box_mesh
+
+    write(BAD / "empty.off", b"")
+    write(BAD / "whitespace.stl", "  \n\n    \n \t \n\n   \n")
+
+    write(BAD / "open_box.off",
+          off_text(cv, [p for k, p in enumerate(cp) if k != TOP], "cube [0,10]^3 without its top face"))
+
+    # two cubes sharing only the edge x=10,y=10 (z in [0,10]); shared vertices are shared indices
+    c2 = box_mesh("c2", 10, 20, 10, 20, 0, 10)
+    verts = list(cv)
+    remap = {}
+    for i, p in enumerate(c2.verts):
+        if p in verts:
+            remap[i] = verts.index(p)
+        else:
+            verts.append(p)
+            remap[i] = len(verts) - 1
+    polys = cp + [[remap[i] for i in p] for p in c2.polys]
+    assert len(verts) == 14
+    write(BAD / "nonmanifold.off",
+          off_text(verts, polys, "cubes [0,10]^3 and [10,20]x[10,20]x[0,10] sharing edge x=10,y=10"))
+
+    polys = [list(p) for p in cp]
+    polys[TOP] = polys[TOP][::-1]
+    write(BAD / "flipped_face.off", off_text(cv, polys, "cube [0,10]^3, top face winding reversed"))
+
+    write(BAD / "inward.off", off_text(cv, [p[::-1] for p in cp], "cube [0,10]^3, every face reversed"))
+
+    # zero-area sliver: m = (5,0,10) is the midpoint of the top-front edge v4-v5.
+    # The top face becomes a fan of 3 triangles around m; the front face keeps
+    # its straight edge v5->v4; the sliver (v4, v5, m) closes the gap, so every
+    # edge is still used twice in opposite directions.
+    verts = list(cv) + [(F(5), F(0), F(10))]
+    m = 8
+    v4, v5, v6, v7 = 4, 5, 7, 6  # top corners CCW from above: (0,0),(10,0),(10,10),(0,10)
+    polys = [p for k, p in enumerate(cp) if k != TOP]
+    polys += [[m, v5, v6], [m, v6, v7], [m, v7, v4], [v4, v5, m]]
+    write(BAD / "zero_area.off",
+          off_text(verts, polys, "cube [0,10]^3, top as 3 triangles + zero-area sliver (0 0 10)(10 0 10)(5 0 10)"))
+
+    verts = [fmt3(p) for p in cv]
+    verts[7] = "10 nan 10"
+    write(BAD / "nan.off", off_text(verts, cp, "cube [0,10]^3, vertex 7 has y = nan"))
+
+    verts = [fmt3(p) for p in cv]
+    verts[7] = "10 10 inf"
+    write(BAD / "inf.obj", obj_text("cube", verts, cp, "cube [0,10]^3, vertex 8 has z = inf"))
+
+    verts = list(cv)
+    verts[7] = (F(10), F(10), F(11))
+    write(BAD / "nonplanar.off", off_text(verts, cp, "cube [0,10]^3, vertex (10,10,10) raised to z=11"))
+
+    v, t = triangulate(cube)
+    assert len(t) == 12
+    full = stl_binary_bytes("cube", v, t)
+    write(BAD / "truncated.stl", full[:84 + 6 * 50 + 25])
+
+    polys = [list(p) for p in cp]
+    polys[TOP] = [polys[TOP][0], polys[TOP][1], 42, polys[TOP][3]]
+    write(BAD / "bad_index.off", off_text(cv, polys, "cube [0,10]^3, top face refers to vertex 42 of 8"))
+
+    verts = [fmt3(p) for p in cv]
+    verts[3] = "10 abc 0"
+    write(BAD / "garbage.obj", obj_text("cube", verts, cp, "cube [0,10]^3, vertex 4 has a non-number token"))
+
+    c2 = box_mesh("c2", 20, 30, 0, 10, 0, 10)
+    verts = list(cv) + list(c2.verts)
+    polys = cp + [[i + 8 for i in p] for p in c2.polys]
+    write(BAD / "two_shells.off", off_text(verts, polys, "two disjoint cubes [0,10]^3 and [20,30]x[0,10]x[0,10]"))
+
+
+# --------------------------------------------------------------------------
+# README
+# --------------------------------------------------------------------------
+
+DESCRIPTIONS = {
+    "l_block": "L-shaped prism: profile (x,z) (0,0) (200,0) (200,150) (150,150) (150,50) (0,50), y in [0,100] (part A)",
+    "box": "box x[50,150] y[10,90] z[50,150], sits in the L's inside corner (part B)",
+    "block_with_hole": "block x,y[0,100] z[0,50] with through-hole x,y[35,65] along z (part A)",
+    "peg": "peg x,y[36,64] z[10,90], stands in the hole, 1 mm clearance per side (part B)",
+    "cube": "cube [0,10]^3",
+    "slab": "slab x,y[-100,100] z[-10,0]",
+}
+
+BAD_DESC = [
+    ("empty.off", "zero bytes", "empty file"),
+    ("whitespace.stl", "only spaces/tabs/newlines", "empty file (no solid)"),
+    ("open_box.off", "cube missing its +z face", "not closed: 4 boundary edges"),
+    ("nonmanifold.off", "cubes [0,10]^3 and [10,20]x[10,20]x[0,10] sharing only the edge x=10,y=10 (vertices shared)",
+     "non-manifold edge: 4 faces meet at it"),
+    ("flipped_face.off", "cube, +z face winding reversed", "inconsistent orientation (4 edges used twice in the same direction)"),
+    ("inward.off", "cube, every face reversed", "consistently oriented but inward (signed volume -1000)"),
+    ("zero_area.off", "cube, +z face = 3 triangles fanned from (5,0,10) + sliver (0,0,10)(10,0,10)(5,0,10)",
+     "zero-area (collinear) face; still closed and consistently oriented"),
+    ("nan.off", "cube, vertex 7 is `10 nan 10`", "non-finite coordinate (NaN)"),
+    ("inf.obj", "cube, vertex 8 is `10 10 inf`", "non-finite coordinate (inf)"),
+    ("nonplanar.off", "cube, vertex (10,10,10) raised to z=11, faces stay quads", "face not planar: only the +z quad (the +x and +y quads stay in x=10 / y=10, planar trapezoids)"),
+    ("truncated.stl", "binary STL of the cube, header says 12 triangles, 409 bytes = 84 + 6*50 + 25",
+     "truncated: cut 25 bytes into triangle 7 (1-based)"),
+    ("bad_index.off", "cube, +z face refers to vertex 42 of 8", "vertex index out of range"),
+    ("garbage.obj", "cube, vertex 4 is `v 10 abc 0`", "non-numeric token"),
+    ("two_shells.off", "two disjoint cubes [0,10]^3 and [20,30]x[0,10]x[0,10]", "two shells (disconnected) in one file"),
+]
+
+
+def readme_text():
+    L = []
+    L.append("# Test fixtures")
+    L.append("")
+    L.append("Generated by `scripts/make_fixtures.py` (Python 3.11, stdlib only, deterministic). "
+             "Do not edit by hand; rerun the script. Units: mm. A and B parts are given in the same "
+             "frame at the assembled pose (A fixed, B moving): `l_block` + `box`, `block_with_hole` + `peg`.")
+    L.append("")
+    L.append("All good models are closed, consistently oriented solids; polygons wind counter-clockwise "
+             "seen from outside. Coordinates are integers or exact binary fractions.")
+    L.append("")
+    L.append("* `.off` / `.obj` / `.ply`: one polygon per planar face, except the holed top and bottom of "
+             "`block_with_hole`, each split into 4 trapezoids (no T-junctions).")
+    L.append("* `.stl` (ASCII): polygons triangulated (fan for convex, ear clipping for the L caps) and "
+             "then refined once by 1-to-4 midpoint subdivision (conforming). Readers must merge coplanar "
+             "triangles and the vertices that only split straight edges.")
+    L.append("* `_binary.stl`: binary little-endian float32, refined twice, header does not start with `solid`.")
+    L.append("")
+    L.append("## Good models")
+    L.append("")
+    L.append("B-rep counts below were derived **by hand** from the geometry (see notes), and are "
+             "re-checked by the script against counts recovered from the refined ASCII STL.")
+    L.append("")
+    L.append("| model | files | description | volume mm^3 | faces | faces w/ holes | vertices | convex vertices | edges | convex edges | concave edges |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    for mesh, vol, counts in GOOD:
+        n = mesh.name
+        files = [f"{n}.off", f"{n}.obj", f"{n}.stl"]
+        if n in BINARY:
+            files.append(f"{n}_binary.stl")
+        if n in PLY:
+            files.append(f"{n}.ply")
+        L.append(f"| {n} | " + ", ".join(f"`{f}`" for f in files) + f" | {DESCRIPTIONS[n]} | {vol} | "
+                 + " | ".join(str(c) for c in counts) + " |")
+    L.append("")
+    L.append("A convex vertex is one whose incident edges are all convex.")
+    L.append("")
+    L.append("Hand derivation notes:")
+    L.append("")
+    L.append("* Boxes (`cube`, `slab`, `box`, `peg`): 6 faces, 8 vertices, 12 edges, all convex.")
+    L.append("* `l_block`: 2 profile caps + 6 side faces = 8 faces; 6 profile vertices x 2 = 12 vertices; "
+             "6 edges per cap x 2 + 6 lateral edges = 18 edges. The profile has one reflex corner at "
+             "(x,z) = (150,50), so the lateral edge x=150, z=50 is concave (the material angle there is 270 deg); "
+             "the other 17 edges are convex. Its two end vertices (150,0,50) and (150,100,50) touch the "
+             "concave edge, so 12 - 2 = 10 convex vertices. Volume 200*50*100 + 50*100*100 = 1,500,000.")
+    L.append("* `block_with_hole`: 4 outer walls + 4 hole walls + top + bottom = 10 faces, top and bottom "
+             "each have one hole (2 faces with holes). 8 outer + 8 hole vertices = 16. Edges: 12 of the "
+             "outer box + 4 hole rim edges on top + 4 on bottom + 4 vertical hole edges = 24. The 4 vertical "
+             "hole edges are concave (material angle 270 deg); the hole rims are convex (90 deg); so 20 "
+             "convex, 4 concave. Each hole vertex touches one concave edge, so 8 convex vertices. "
+             "Volume 100*100*50 - 30*30*50 = 455,000.")
+    L.append("")
+    L.append("## Bad inputs (`bad/`)")
+    L.append("")
+    L.append("Each has exactly one defect; derived from the cube [0,10]^3 unless said.")
+    L.append("")
+    L.append("| file | what it is | defect |")
+    L.append("|---|---|---|")
+    for f, what, defect in BAD_DESC:
+        L.append(f"| `bad/{f}` | {what} | {defect} |")
+    L.append("")
+    L.append("Notes: `nonmanifold.off` also has two non-manifold vertices (the ends of the shared edge) as a "
+             "consequence of the non-manifold edge. In `zero_area.off` the sliver's long edge is shared "
+             "with the -y face, whose straight edge passes through the sliver's middle vertex (5,0,10); "
+             "any closed mesh with a collinear triangle has this shape. In `nonplanar.off` the signed "
+             "volume is not meaningful because the top face is not planar.")
+    L.append("")
+    return "\n".join(L)
+
+
+# --------------------------------------------------------------------------
+# self-check
+# --------------------------------------------------------------------------
+
+def check_closed_solid(label, verts, polys, volume):
+    ok, probs = edge_report(polys)
+    check(ok, f"{label}: edge pairing problems {probs[:3]}")
+    vol = signed_volume(verts, polys)
+    check(vol == volume, f"{label}: signed volume {vol} != {volume}")
+    check(shells(len(verts), polys) == 1, f"{label}: not one shell")
+    check(all(planar(verts, p) for p in polys), f"{label}: non-planar polygon")
+    used = {i for p in polys for i in p}
+    check(len(used) == len(verts), f"{label}: unused vertices")
+    for p in polys:
+        pts = [verts[i] for i in p]
+        check(not is_zero(newell(pts)), f"{label}: zero-area polygon {p}")
+
+
+def self_check():
+    for mesh, volume, counts in GOOD:
+        n = mesh.name
+        v, p = read_off(OUT / f"{n}.off")
+        check_closed_solid(f"{n}.off", v, p, volume)
+        check(v == mesh.verts and p == mesh.polys, f"{n}.off: round trip differs")
+        v2, p2, names = read_obj(OUT / f"{n}.obj")
+        check((v2, p2) == (v, p) and names == [n], f"{n}.obj differs from {n}.off")
+        if n in PLY:
+            v3, p3 = read_ply(OUT / f"{n}.ply")
+            check((v3, p3) == (v, p), f"{n}.ply differs from {n}.off")
+
+        stls = [(f"{n}.stl", read_stl_ascii(OUT / f"{n}.stl"), 4)]
+        if n in BINARY:
+            stls.append((f"{n}_binary.stl", read_stl_binary(OUT / f"{n}_binary.stl"), 16))
+        ntri_poly = sum(len(q) - 2 for q in p)
+        for label, facets, factor in stls:
+            check(len(facets) == ntri_poly * factor, f"{label}: {len(facets)} triangles")
+            tv, tt = facets_to_mesh(facets)
+            check_closed_solid(label, tv, tt, volume)
+            # facet normals are unit normals of the triangles
+            for nrm, pts in facets:
+                exp = unit_normal(*pts)
+                check(all(abs(a - b) < 1e-6 for a, b in zip(nrm, exp)), f"{label}: facet normal {nrm} != {exp}")
+            got = brep_counts(tv, tt)
+            check(got == counts, f"{label}: B-rep counts {got} != hand-derived {counts}")
+        # the polygon files too
+        _, tris = triangulate(Mesh(n, v, p))
+        check(brep_counts(v, tris) == counts, f"{n}.off: B-rep counts differ")
+
+    # bad inputs carry their defect
+    def parse_error(fn, path):
+        try:
+            fn(path)
+        except (ParseError, ValueError, struct.error, AssertionError, IndexError):
+            return True
+        return False
+
+    check((BAD / "empty.off").stat().st_size == 0, "empty.off not empty")
+    check((BAD / "whitespace.stl").read_bytes().strip() == b"", "whitespace.stl has content")
+
+    v, p = read_off(BAD / "open_box.off")
+    ok, probs = edge_report(p)
+    check(not ok and len(probs) == 4 and all(k == "count" and c == 1 for k, _, c in probs), "open_box: defect")
+
+    v, p = read_off(BAD / "nonmanifold.off")
+    ok, probs = edge_report(p)
+    check(len(probs) == 1 and probs[0][2] == 4 and v[probs[0][1][0]][:2] == (10, 10)
+          and v[probs[0][1][1]][:2] == (10, 10), f"nonmanifold: {probs}")
+    check(signed_volume(v, p) == 2000, "nonmanifold: volume")
+
+    v, p = read_off(BAD / "flipped_face.off")
+    ok, probs = edge_report(p)
+    check(len(probs) == 4 and all(k == "same-direction" for k, _, _ in probs), "flipped_face: defect")
+
+    v, p = read_off(BAD / "inward.off")
+    check(edge_report(p)[0] and signed_volume(v, p) == -1000, "inward: defect")
+
+    v, p = read_off(BAD / "zero_area.off")
+    zero = [q for q in p if is_zero(newell([v[i] for i in q]))]
+    check(edge_report(p)[0] and signed_volume(v, p) == 1000 and len(zero) == 1
+          and all(planar(v, q) for q in p), "zero_area: defect")
+
+    check(parse_error(read_off, BAD / "nan.off"), "nan.off parses")
+    check(parse_error(read_obj, BAD / "inf.obj"), "inf.obj parses")
+    check(parse_error(read_obj, BAD / "garbage.obj"), "garbage.obj parses")
+    check(parse_error(read_off, BAD / "bad_index.off"), "bad_index.off parses")
+    check(parse_error(read_stl_binary, BAD / "truncated.stl"), "truncated.stl parses")
+    data = (BAD / "truncated.stl").read_bytes()
+    check(len(data) == 409 and struct.unpack_from("<I", data, 80)[0] == 12, "truncated.stl layout")
+
+    v, p = read_off(BAD / "nonplanar.off")
+    nonplanar = [q for q in p if not planar(v, q)]
+    check(edge_report(p)[0] and len(nonplanar) == 1 and v[7] in [v[i] for i in nonplanar[0]], f"nonplanar: {len(nonplanar)} non-planar faces")
+
+    v, p = read_off(BAD / "two_shells.off")
+    check(edge_report(p)[0] and shells(len(v), p) == 2 and signed_volume(v, p) == 2000, "two_shells: defect")
+
+    # cleanliness of the good cube the bad files derive from
+    v, p = read_off(OUT / "cube.off")
+    check_closed_solid("cube.off (base)", v, p, 1000)
+
+
+def main():
+    write_good()
+    write_bad()
+    write(OUT / "README.md", readme_text())
+    self_check()
+    total = 0
+    for path in WRITTEN:
+        size = path.stat().st_size
+        total += size
+        print(f"{path.relative_to(ROOT).as_posix():34s} {size:7d} bytes")
+    print(f"{len(WRITTEN)} files, {total} bytes total")
+    check(total < 2 * 1024 * 1024, "total size over 2 MB")
+    if FAILURES:
+        for f in FAILURES:
+            print("SELF-CHECK FAILED:", f, file=sys.stderr)
+        sys.exit(1)
+    print("self-check passed")
+
+
+if __name__ == "__main__":
+    main()
