@@ -122,11 +122,21 @@ impl Format {
     /// The format a file's first bytes show, if they show one.
     #[must_use]
     pub fn sniff(head: &[u8]) -> Option<Format> {
+        // Binary STL first: an 80-byte header, then a little-endian triangle count that
+        // matches the length exactly (only trusted when the whole file is at hand). Its
+        // header may start with "solid", and its bytes may look like OBJ lines.
+        if head.len() >= 84 {
+            let count = u64::from(u32::from_le_bytes([head[80], head[81], head[82], head[83]]));
+            if 84 + 50 * count == head.len() as u64 {
+                return Some(Format::Stl);
+            }
+        }
         let text = String::from_utf8_lossy(&head[..head.len().min(512)]);
-        let first = text.trim_start();
+        let first = text.trim_start_matches('\u{feff}').trim_start();
+        let off_headers = ["OFF", "COFF", "NOFF", "CNOFF", "STOFF", "STCOFF"];
         if first.starts_with("ply") {
             Some(Format::Ply)
-        } else if first.starts_with("OFF") || first.starts_with("COFF") || first.starts_with("NOFF") {
+        } else if off_headers.iter().any(|h| first.starts_with(h)) {
             Some(Format::Off)
         } else if first.starts_with("solid") && text.contains("facet") {
             Some(Format::Stl)
@@ -135,11 +145,6 @@ impl Format {
             l.starts_with("v ") || l.starts_with("f ") || l.starts_with("o ") || l.starts_with("g ")
         }) {
             Some(Format::Obj)
-        } else if head.len() >= 84 {
-            // Binary STL: 80-byte header, then a little-endian triangle count that
-            // matches the length. Only trusted when the whole file is at hand.
-            let count = u32::from_le_bytes([head[80], head[81], head[82], head[83]]) as usize;
-            (84 + 50 * count == head.len()).then_some(Format::Stl)
         } else {
             None
         }

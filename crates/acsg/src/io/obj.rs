@@ -33,7 +33,10 @@ pub fn read(reader: impl Read) -> Result<MeshSoup, ParseError> {
 }
 
 fn parse(bytes: &[u8]) -> Result<MeshSoup, ParseError> {
-    let mut soup = MeshSoup { polygon_noun: "face", ..MeshSoup::default() };
+    let mut soup = MeshSoup {
+        polygon_noun: "face",
+        ..MeshSoup::default()
+    };
     // Faces with 0-based indices. Positive indices may refer to vertices defined later
     // in the file: they are checked once every vertex is known.
     let mut faces: Vec<(usize, Vec<usize>)> = Vec::new();
@@ -64,7 +67,8 @@ fn parse(bytes: &[u8]) -> Result<MeshSoup, ParseError> {
                         *slot = value;
                     }
                 }
-                soup.positions.push(finite_vertex(p, &format!("vertex {vertex}"), place)?);
+                soup.positions
+                    .push(finite_vertex(p, &format!("vertex {vertex}"), place)?);
             }
             Some("f" | "fo") => {
                 let face = faces.len();
@@ -127,7 +131,10 @@ fn parse_corner(token: &str, face: usize, defined: usize, place: Place) -> Resul
     if others.len() > 2 {
         return Err(malformed("it has more than three parts"));
     }
-    if others.iter().any(|part| !part.is_empty() && part.parse::<i64>().is_err()) {
+    if others
+        .iter()
+        .any(|part| !part.is_empty() && part.parse::<i64>().is_err())
+    {
         return Err(malformed("its texture or normal index is not a whole number"));
     }
     if vertex.is_empty() {
@@ -207,16 +214,16 @@ f 4 1 5 8
         assert_eq!(soup.polygons[1], vec![4, 5, 6, 7]);
         assert_eq!(soup.polygons[3], vec![1, 2, 6, 5]);
         assert_eq!(soup.polygons[5], vec![3, 0, 4, 7]);
-        assert_eq!(soup.polygon_lines[0], Some(15));
-        assert_eq!(soup.polygon_lines[4], Some(22));
+        assert_eq!(soup.polygon_lines[0], Some(16));
+        assert_eq!(soup.polygon_lines[4], Some(23));
         assert_eq!(soup.polygon_noun, "face");
     }
 
     #[test]
     fn relative_and_forward_indices() {
-        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 0 0 1\nf -1 -2 -4\nf 1 2 5\n";
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nv 0 0 1\nf -1 -2 -4\nf 1 2 4\n";
         let soup = read(text.as_bytes()).unwrap();
-        assert_eq!(soup.polygons, vec![vec![0, 1, 2], vec![3, 2, 0], vec![0, 1, 4]]);
+        assert_eq!(soup.polygons, vec![vec![0, 1, 2], vec![3, 2, 0], vec![0, 1, 3]]);
         // A face may name a vertex defined further down.
         let soup = read("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n".as_bytes()).unwrap();
         assert_eq!(soup.polygons, vec![vec![0, 1, 2]]);
@@ -232,7 +239,10 @@ f 4 1 5 8
     fn bad_vertex_lines() {
         let e = err("v 0 0 0\nv 1 x 0\n");
         assert_eq!(e.place, Place::Line(2));
-        assert!(e.problem.contains("`x`") && e.problem.contains("y coordinate of vertex 2"), "{e}");
+        assert!(
+            e.problem.contains("`x`") && e.problem.contains("y coordinate of vertex 2"),
+            "{e}"
+        );
         let e = err("v 0 0 0\nv 1 0\n");
         assert_eq!(e.place, Place::Line(2));
         assert!(e.problem.contains("vertex 2 has 2 value(s)"), "{e}");
@@ -245,7 +255,10 @@ f 4 1 5 8
         for bad in ["NaN", "inf", "-1e999"] {
             let e = err(&format!("v 0 0 0\n\nv 0 {bad} 0\n"));
             assert_eq!(e.place, Place::Line(3));
-            assert!(e.problem.starts_with("vertex 2:") && e.problem.contains("not finite"), "{e}");
+            assert!(
+                e.problem.starts_with("vertex 2:") && e.problem.contains("not finite"),
+                "{e}"
+            );
         }
     }
 
@@ -254,7 +267,11 @@ f 4 1 5 8
         let base = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
         let e = err(&format!("{base}f 1 2 4\n"));
         assert_eq!(e.place, Place::Line(4));
-        assert!(e.problem.contains("face 0 refers to vertex 4 but the file has 3 vertices"), "{e}");
+        assert!(
+            e.problem
+                .contains("face 0 refers to vertex 4 but the file has 3 vertices"),
+            "{e}"
+        );
         let e = err(&format!("{base}f 1 2 3\nf 1 2 -4\n"));
         assert_eq!(e.place, Place::Line(5));
         assert!(e.problem.contains("face 1 refers to vertex -4"), "{e}");

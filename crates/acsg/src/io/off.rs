@@ -10,7 +10,7 @@
 //! ```
 //!
 //! This module also holds the small text helpers shared by the other readers
-//! ([`read_limited`], [`TextLines`], [`parse_f64`]).
+//! (`read_limited`, `TextLines`, `parse_f64`, ...).
 
 use std::borrow::Cow;
 use std::io::Read;

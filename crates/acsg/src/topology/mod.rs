@@ -12,7 +12,9 @@
 //! 6. classify edges and vertices as convex or not, triangulate faces, and number
 //!    everything in a canonical, format-independent order.
 
-use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
+pub mod refine;
+
+use rustc_hash::FxHashMap as HashMap;
 
 use glam::{DVec2, DVec3};
 
@@ -48,6 +50,7 @@ pub fn build(soup: &MeshSoup) -> Result<Brep, ValidationReport> {
     if !report.is_ok() {
         return Err(report);
     }
+    let mut mesh = mesh;
     mesh.check_surface(soup, &mut report);
     if !report.is_ok() {
         return Err(report);
@@ -60,17 +63,22 @@ pub fn build(soup: &MeshSoup) -> Result<Brep, ValidationReport> {
     }
 }
 
-/// A welded polygon mesh with per-polygon planes.
+/// A welded polygon mesh as flat half-edge arrays: half-edge `h` runs from
+/// `corners[h]` to `corners[next(h)]` inside polygon `polygon_of[h]`.
 struct Mesh {
     points: Vec<DVec3>,
-    polygons: Vec<Vec<u32>>,
+    /// Corner point ids of all polygons, concatenated.
+    corners: Vec<u32>,
+    /// Polygon `p` owns half-edges `starts[p]..starts[p + 1]`.
+    starts: Vec<u32>,
+    polygon_of: Vec<u32>,
+    /// The opposite half-edge (same edge, other polygon); set by `check_surface`.
+    twin: Vec<u32>,
     /// Index of each welded polygon in the soup (for messages).
     source: Vec<usize>,
     /// Unit Newell normal and area of each polygon.
     normals: Vec<DVec3>,
     areas: Vec<f64>,
-    /// Directed half-edge (a, b) -> polygon holding it.
-    half_edges: HashMap<(u32, u32), u32>,
     /// Length scale L of the part: its bounding-box diagonal.
     scale: f64,
 }
@@ -138,17 +146,22 @@ impl Mesh {
         let (points, map) = weld(&soup.positions, scaled(WELD_REL, scale));
         let area_tol = AREA_REL * scale * scale;
         let plane_tol = scaled(COPLANAR_REL, scale);
+        let total: usize = soup.polygons.iter().map(Vec::len).sum();
         let mut mesh = Mesh {
             points,
-            polygons: Vec::new(),
+            corners: Vec::with_capacity(total),
+            starts: vec![0],
+            polygon_of: Vec::with_capacity(total),
+            twin: Vec::new(),
             source: Vec::new(),
             normals: Vec::new(),
             areas: Vec::new(),
-            half_edges: HashMap::new(),
             scale,
         };
+        let mut welded: Vec<u32> = Vec::new();
         for (i, poly) in soup.polygons.iter().enumerate() {
-            let mut welded: Vec<u32> = poly.iter().map(|&v| map[v as usize]).collect();
+            welded.clear();
+            welded.extend(poly.iter().map(|&v| map[v as usize]));
             welded.dedup();
             while welded.len() > 1 && welded.first() == welded.last() {
                 welded.pop();
@@ -168,70 +181,115 @@ impl Mesh {
                 continue;
             }
             let normal = n / n.length();
-            let offset = pts.clone().map(|p| normal.dot(p)).sum::<f64>() / welded.len() as f64;
-            let worst = pts.map(|p| (normal.dot(p) - offset).abs()).fold(0.0, f64::max);
-            if worst > plane_tol {
-                report.push(
-                    DefectKind::NotPlanar,
-                    format!(
-                        "{}: a corner is {worst:.3e} off the polygon's plane",
-                        soup.describe_polygon(i)
-                    ),
-                    "split the polygon into triangles or planar polygons",
-                );
-                continue;
+            if welded.len() > 3 {
+                let offset = pts.clone().map(|p| normal.dot(p)).sum::<f64>() / welded.len() as f64;
+                let worst = pts.map(|p| (normal.dot(p) - offset).abs()).fold(0.0, f64::max);
+                if worst > plane_tol {
+                    report.push(
+                        DefectKind::NotPlanar,
+                        format!(
+                            "{}: a corner is {worst:.3e} off the polygon's plane",
+                            soup.describe_polygon(i)
+                        ),
+                        "split the polygon into triangles or planar polygons",
+                    );
+                    continue;
+                }
             }
-            mesh.polygons.push(welded);
+            let p = mesh.source.len() as u32;
+            mesh.corners.extend_from_slice(&welded);
+            mesh.polygon_of.extend(std::iter::repeat_n(p, welded.len()));
+            mesh.starts.push(mesh.corners.len() as u32);
             mesh.source.push(i);
             mesh.normals.push(normal);
             mesh.areas.push(area);
         }
-        for (pi, poly) in mesh.polygons.iter().enumerate() {
-            for (a, b) in Self::edges_of(poly) {
-                mesh.half_edges.entry((a, b)).or_insert(pi as u32);
-            }
-        }
         Some(mesh)
+    }
+
+    fn polygon_count(&self) -> usize {
+        self.source.len()
+    }
+
+    fn half_edges(&self, p: usize) -> std::ops::Range<usize> {
+        self.starts[p] as usize..self.starts[p + 1] as usize
+    }
+
+    fn next(&self, h: usize) -> usize {
+        let p = self.polygon_of[h] as usize;
+        if h + 1 == self.starts[p + 1] as usize {
+            self.starts[p] as usize
+        } else {
+            h + 1
+        }
+    }
+
+    fn prev(&self, h: usize) -> usize {
+        let p = self.polygon_of[h] as usize;
+        if h == self.starts[p] as usize {
+            self.starts[p + 1] as usize - 1
+        } else {
+            h - 1
+        }
+    }
+
+    /// End points of half-edge `h`.
+    fn ends(&self, h: usize) -> (u32, u32) {
+        (self.corners[h], self.corners[self.next(h)])
+    }
+
+    fn polygon_points(&self, p: usize) -> impl Iterator<Item = DVec3> + Clone + '_ {
+        self.half_edges(p).map(|h| self.points[self.corners[h] as usize])
     }
 
     fn describe(&self, soup: &MeshSoup, poly: u32) -> String {
         soup.describe_polygon(self.source[poly as usize])
     }
 
-    fn edges_of(poly: &[u32]) -> impl Iterator<Item = (u32, u32)> + '_ {
-        poly.iter().zip(poly.iter().cycle().skip(1)).map(|(&a, &b)| (a, b))
-    }
-
-    /// Edge use, vertex fans, shells and orientation.
-    fn check_surface(&self, soup: &MeshSoup, report: &mut ValidationReport) {
-        // Undirected edge -> the (polygon, forward?) uses.
-        let mut uses: BTreeMap<(u32, u32), Vec<(u32, bool)>> = BTreeMap::new();
-        for (pi, poly) in self.polygons.iter().enumerate() {
-            for (a, b) in Self::edges_of(poly) {
-                uses.entry((a.min(b), a.max(b))).or_default().push((pi as u32, a < b));
-            }
-        }
-        for (&(a, b), list) in &uses {
+    /// Edge use (and twins), vertex fans, shells and orientation.
+    fn check_surface(&mut self, soup: &MeshSoup, report: &mut ValidationReport) {
+        // Every use of every undirected edge, grouped by sorting: (low, high, half-edge).
+        let mut uses: Vec<(u32, u32, u32)> = (0..self.corners.len())
+            .map(|h| {
+                let (a, b) = self.ends(h);
+                (a.min(b), a.max(b), h as u32)
+            })
+            .collect();
+        uses.sort_unstable();
+        self.twin = vec![u32::MAX; self.corners.len()];
+        for group in uses.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
             let place = || {
                 format!(
                     "edge {} - {} (used by {})",
-                    fmt_point(self.points[a as usize]),
-                    fmt_point(self.points[b as usize]),
-                    list.iter()
-                        .map(|&(p, _)| self.describe(soup, p))
+                    fmt_point(self.points[group[0].0 as usize]),
+                    fmt_point(self.points[group[0].1 as usize]),
+                    group
+                        .iter()
+                        .map(|&(.., h)| self.describe(soup, self.polygon_of[h as usize]))
                         .collect::<Vec<_>>()
                         .join(", ")
                 )
             };
-            match list.as_slice() {
-                [_] => report.push(DefectKind::NotClosed, place(), "the surface has a gap there; add the missing faces so it encloses a volume"),
-                [(_, d1), (_, d2)] if d1 == d2 => report.push(
+            match *group {
+                [_] => report.push(
+                    DefectKind::NotClosed,
+                    place(),
+                    "the surface has a gap there; add the missing faces so it encloses a volume",
+                ),
+                [(.., h1), (.., h2)] if self.ends(h1 as usize) == self.ends(h2 as usize) => report.push(
                     DefectKind::InconsistentOrientation,
                     place(),
                     "reverse the winding of one of these polygons so neighbours run their common edge in opposite directions",
                 ),
-                [_, _] => {}
-                _ => report.push(DefectKind::NotManifold, place(), "more than two faces meet at this edge; separate the solids or remove the extra faces"),
+                [(.., h1), (.., h2)] => {
+                    self.twin[h1 as usize] = h2;
+                    self.twin[h2 as usize] = h1;
+                }
+                _ => report.push(
+                    DefectKind::NotManifold,
+                    place(),
+                    "more than two faces meet at this edge; separate the solids or remove the extra faces",
+                ),
             }
         }
         if !report.is_ok() {
@@ -260,37 +318,33 @@ impl Mesh {
         }
     }
 
+    /// The half-edge leaving the same point as `h`, one polygon further around it.
+    fn around(&self, h: usize) -> usize {
+        self.twin[self.prev(h)] as usize
+    }
+
+    /// A manifold point has one fan: walking `around` from any of its half-edges
+    /// visits all of them.
     fn check_vertex_fans(&self, report: &mut ValidationReport) {
-        // Corner (prev -> v -> next) of each polygon, keyed by (v, prev). Around a
-        // manifold vertex the corner after (prev, v, next) is the one entered from next.
-        let mut corners: BTreeMap<(u32, u32), u32> = BTreeMap::new();
-        for poly in &self.polygons {
-            let n = poly.len();
-            for i in 0..n {
-                corners.insert((poly[i], poly[(i + n - 1) % n]), poly[(i + 1) % n]);
-            }
-        }
-        let mut seen: HashSet<(u32, u32)> = HashSet::new();
-        let mut fans: BTreeMap<u32, usize> = BTreeMap::new();
-        for &(v, prev) in corners.keys() {
-            if !seen.insert((v, prev)) {
+        let mut fans = vec![0u32; self.points.len()];
+        let mut seen = vec![false; self.corners.len()];
+        for start in 0..self.corners.len() {
+            if seen[start] {
                 continue;
             }
-            *fans.entry(v).or_default() += 1;
-            let mut key = (v, prev);
-            while let Some(&next) = corners.get(&key) {
-                key = (v, next);
-                if !seen.insert(key) {
-                    break;
-                }
+            fans[self.corners[start] as usize] += 1;
+            let mut h = start;
+            while !seen[h] {
+                seen[h] = true;
+                h = self.around(h);
             }
         }
-        for (v, count) in fans.into_iter().filter(|&(_, c)| c > 1) {
+        for (v, _) in fans.iter().enumerate().filter(|&(_, &n)| n > 1) {
             report.push(
                 DefectKind::NotManifold,
                 format!(
-                    "point {}: {count} separate fans of faces meet only at this point",
-                    fmt_point(self.points[v as usize])
+                    "point {}: separate fans of faces meet only at this point",
+                    fmt_point(self.points[v])
                 ),
                 "separate the solids that touch at this point, or merge them properly",
             );
@@ -298,28 +352,25 @@ impl Mesh {
     }
 
     fn shell_count(&self) -> usize {
-        let mut uf = UnionFind::new(self.polygons.len());
-        for (pi, poly) in self.polygons.iter().enumerate() {
-            for (a, b) in Self::edges_of(poly) {
-                if let Some(&q) = self.half_edges_lookup(b, a) {
-                    uf.union(pi, q as usize);
-                }
-            }
+        let mut uf = UnionFind::new(self.polygon_count());
+        for h in 0..self.corners.len() {
+            uf.union(
+                self.polygon_of[h] as usize,
+                self.polygon_of[self.twin[h] as usize] as usize,
+            );
         }
-        (0..self.polygons.len()).filter(|&i| uf.find(i) == i).count()
-    }
-
-    fn half_edges_lookup(&self, a: u32, b: u32) -> Option<&u32> {
-        self.half_edges.get(&(a, b))
+        (0..self.polygon_count()).filter(|&i| uf.find(i) == i).count()
     }
 
     fn signed_volume(&self) -> f64 {
-        self.polygons
-            .iter()
-            .map(|poly| {
-                let p0 = self.points[poly[0] as usize];
-                (1..poly.len() - 1)
-                    .map(|i| p0.dot(self.points[poly[i] as usize].cross(self.points[poly[i + 1] as usize])))
+        (0..self.polygon_count())
+            .map(|p| {
+                let hs = self.half_edges(p);
+                let p0 = self.points[self.corners[hs.start] as usize];
+                (hs.start + 1..hs.end - 1)
+                    .map(|h| {
+                        p0.dot(self.points[self.corners[h] as usize].cross(self.points[self.corners[h + 1] as usize]))
+                    })
                     .sum::<f64>()
             })
             .sum::<f64>()
@@ -330,25 +381,33 @@ impl Mesh {
 /// Merges points closer than `tol`; returns the merged points and, for each input
 /// point, its merged index. The first point of a cluster represents it.
 fn weld(points: &[DVec3], tol: f64) -> (Vec<DVec3>, Vec<u32>) {
-    let cell = tol.max(f64::MIN_POSITIVE) * 2.0;
-    let key = |p: DVec3| {
-        let q = (p / cell).floor();
-        (q.x as i64, q.y as i64, q.z as i64)
-    };
-    let mut grid: HashMap<(i64, i64, i64), Vec<u32>> = HashMap::new();
+    // Cells much larger than tol: a point needs a look into a neighbouring cell only
+    // along axes where it lies within tol of its cell's side.
+    let tol = tol.max(f64::MIN_POSITIVE);
+    let cell = tol * 1024.0;
+    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::default();
     let mut merged: Vec<DVec3> = Vec::new();
     let mut map = Vec::with_capacity(points.len());
     for &p in points {
-        let (kx, ky, kz) = key(p);
+        let scaled = p / cell;
+        let home = scaled.floor();
+        let frac = (scaled - home) * cell;
+        let key = [home.x as i64, home.y as i64, home.z as i64];
+        let span = |axis: usize| {
+            let lo = if frac[axis] <= tol { -1 } else { 0 };
+            let hi = if cell - frac[axis] <= tol { 1 } else { 0 };
+            lo..=hi
+        };
         let mut found = None;
-        'search: for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    if let Some(list) = grid.get(&(kx + dx, ky + dy, kz + dz)) {
-                        if let Some(&m) = list.iter().find(|&&m| merged[m as usize].distance(p) <= tol) {
-                            found = Some(m);
-                            break 'search;
-                        }
+        'search: for dx in span(0) {
+            for dy in span(1) {
+                for dz in span(2) {
+                    let near = grid.get(&[key[0] + dx, key[1] + dy, key[2] + dz]);
+                    if let Some(&m) =
+                        near.and_then(|list| list.iter().find(|&&m| merged[m as usize].distance(p) <= tol))
+                    {
+                        found = Some(m);
+                        break 'search;
                     }
                 }
             }
@@ -356,7 +415,7 @@ fn weld(points: &[DVec3], tol: f64) -> (Vec<DVec3>, Vec<u32>) {
         let id = found.unwrap_or_else(|| {
             let id = merged.len() as u32;
             merged.push(p);
-            grid.entry((kx, ky, kz)).or_default().push(id);
+            grid.entry(key).or_default().push(id);
             id
         });
         map.push(id);
@@ -400,7 +459,7 @@ struct RawEdge {
     sides_seen: u8,
 }
 
-/// The part of a region's boundary loop between two corners.
+/// A region's boundary loop, split at its corners.
 struct RawLoop {
     /// Mesh point ids of the corners only (points where three or more faces meet).
     corners: Vec<u32>,
@@ -424,36 +483,28 @@ fn shoelace(points: &[DVec2]) -> f64 {
 }
 
 impl Mesh {
-    fn polygon_points(&self, p: usize) -> impl Iterator<Item = DVec3> + Clone + '_ {
-        self.polygons[p].iter().map(|&v| self.points[v as usize])
-    }
-
-    fn twin(&self, a: u32, b: u32) -> u32 {
-        // check_surface guarantees every half-edge has its twin.
-        self.half_edges.get(&(b, a)).copied().unwrap_or(u32::MAX)
-    }
-
     /// Groups polygons into maximal planar connected regions; returns the region of
     /// each polygon and the number of regions.
     fn planar_regions(&self) -> (Vec<u32>, usize) {
         let tol = scaled(COPLANAR_REL, self.scale);
-        let n = self.polygons.len();
+        let n = self.polygon_count();
         let mut region = vec![u32::MAX; n];
         let mut count = 0u32;
+        let centroid = |p: usize| self.polygon_points(p).sum::<DVec3>() / self.half_edges(p).len() as f64;
+        let mut stack = Vec::new();
         for seed in 0..n {
             if region[seed] != u32::MAX {
                 continue;
             }
             region[seed] = count;
-            let centroid = |p: usize| self.polygon_points(p).sum::<DVec3>() / self.polygons[p].len() as f64;
             let mut normal_sum = self.normals[seed] * self.areas[seed];
             let mut point_sum = centroid(seed) * self.areas[seed];
             let mut area_sum = self.areas[seed];
-            let mut stack = vec![seed];
+            stack.push(seed);
             while let Some(p) = stack.pop() {
-                for (a, b) in Self::edges_of(&self.polygons[p]) {
-                    let q = self.twin(a, b) as usize;
-                    if q >= n || region[q] != u32::MAX {
+                for h in self.half_edges(p) {
+                    let q = self.polygon_of[self.twin[h] as usize] as usize;
+                    if region[q] != u32::MAX {
                         continue;
                     }
                     let normal = normal_sum.normalize();
@@ -477,129 +528,159 @@ impl Mesh {
     fn to_brep(&self, soup: &MeshSoup, regions: &(Vec<u32>, usize), report: &mut ValidationReport) -> Option<Brep> {
         let (region, region_count) = (&regions.0, regions.1);
         let tol = scaled(COPLANAR_REL, self.scale);
+        let region_of = |h: usize| region[self.polygon_of[h] as usize];
 
-        // Faces' planes, and the regions meeting at each point.
+        // Each region's plane: area-weighted normal, mean offset over its corners.
         let mut normal_sums = vec![DVec3::ZERO; region_count];
-        let mut region_points: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); region_count];
-        let mut point_regions: Vec<BTreeSet<u32>> = vec![BTreeSet::new(); self.points.len()];
-        for (p, poly) in self.polygons.iter().enumerate() {
-            let r = region[p];
-            normal_sums[r as usize] += self.normals[p] * self.areas[p];
-            for &v in poly {
-                region_points[r as usize].insert(v);
-                point_regions[v as usize].insert(r);
-            }
+        for p in 0..self.polygon_count() {
+            normal_sums[region[p] as usize] += self.normals[p] * self.areas[p];
         }
-        let mut planes = Vec::with_capacity(region_count);
-        for r in 0..region_count {
-            let normal = normal_sums[r].normalize();
-            let pts = &region_points[r];
-            let offset = pts.iter().map(|&v| normal.dot(self.points[v as usize])).sum::<f64>() / pts.len() as f64;
-            let worst = pts
-                .iter()
-                .map(|&v| (normal.dot(self.points[v as usize]) - offset).abs())
-                .fold(0.0, f64::max);
-            if worst > tol {
-                let first = region.iter().position(|&x| x as usize == r).unwrap_or(0) as u32;
-                report.push(
-                    DefectKind::NotPlanar,
-                    format!(
-                        "the face containing {} bends: a point is {worst:e} off its plane",
-                        self.describe(soup, first)
-                    ),
-                    "the surface curves gradually; model it with distinct planar faces",
-                );
-            }
-            planes.push((normal, offset));
+        let normals: Vec<DVec3> = normal_sums.iter().map(|n| n.normalize()).collect();
+        let mut offset_sums = vec![(0.0, 0usize); region_count];
+        for h in 0..self.corners.len() {
+            let r = region_of(h) as usize;
+            offset_sums[r].0 += normals[r].dot(self.points[self.corners[h] as usize]);
+            offset_sums[r].1 += 1;
         }
-        let is_corner = |v: u32| point_regions[v as usize].len() >= 3;
+        let planes: Vec<(DVec3, f64)> = normals
+            .iter()
+            .zip(&offset_sums)
+            .map(|(&n, &(sum, count))| (n, sum / count as f64))
+            .collect();
+        let mut worst = vec![0.0f64; region_count];
+        for h in 0..self.corners.len() {
+            let r = region_of(h) as usize;
+            let (n, d) = planes[r];
+            worst[r] = worst[r].max((n.dot(self.points[self.corners[h] as usize]) - d).abs());
+        }
+        for (r, &w) in worst.iter().enumerate().filter(|&(_, &w)| w > tol) {
+            let first = region.iter().position(|&x| x as usize == r).unwrap_or(0) as u32;
+            report.push(
+                DefectKind::NotPlanar,
+                format!(
+                    "the face containing {} bends: a point is {w:.3e} off its plane",
+                    self.describe(soup, first)
+                ),
+                "the surface curves gradually; model it with distinct planar faces",
+            );
+        }
 
-        // Boundary half-edges of each region, then loops.
-        let mut outgoing: Vec<BTreeMap<u32, Vec<u32>>> = vec![BTreeMap::new(); region_count];
-        for (p, poly) in self.polygons.iter().enumerate() {
-            for (a, b) in Self::edges_of(poly) {
-                let q = self.twin(a, b) as usize;
-                if region[q] != region[p] {
-                    outgoing[region[p] as usize].entry(a).or_default().push(b);
+        // The distinct regions around each point, from one walk around its fan.
+        let mut point_regions: Vec<Vec<u32>> = vec![Vec::new(); self.points.len()];
+        let mut walked = vec![false; self.points.len()];
+        for start in 0..self.corners.len() {
+            let v = self.corners[start] as usize;
+            if std::mem::replace(&mut walked[v], true) {
+                continue;
+            }
+            let mut h = start;
+            loop {
+                let r = region_of(h);
+                if !point_regions[v].contains(&r) {
+                    point_regions[v].push(r);
+                }
+                h = self.around(h);
+                if h == start {
+                    break;
                 }
             }
+            point_regions[v].sort_unstable();
         }
+        let is_corner = |v: u32| point_regions[v as usize].len() >= 3;
+        let is_boundary = |h: usize| region_of(self.twin[h] as usize) != region_of(h);
+
+        // Trace each region's boundary loops: after boundary half-edge h, the next one
+        // leaves h's end point inside the same region.
         let mut raw_edges: Vec<RawEdge> = Vec::new();
-        let mut edge_index: HashMap<(u32, u32, u32, u32), usize> = HashMap::new();
-        let mut loops: Vec<Vec<RawLoop>> = Vec::with_capacity(region_count);
-        for r in 0..region_count as u32 {
-            let mut region_loops = Vec::new();
-            let out = &mut outgoing[r as usize];
-            while let Some((&start, _)) = out.iter().find(|(_, v)| !v.is_empty()) {
-                // Trace one closed loop of mesh points.
-                let mut chain = vec![start];
-                let mut at = start;
-                loop {
-                    let Some(next) = out
-                        .get_mut(&at)
-                        .and_then(|v| if v.is_empty() { None } else { Some(v.remove(0)) })
-                    else {
+        let mut edge_index: HashMap<(u32, u32, u32, u32), usize> = HashMap::default();
+        let mut loops: Vec<Vec<RawLoop>> = (0..region_count).map(|_| Vec::new()).collect();
+        let mut traced = vec![false; self.corners.len()];
+        for start in 0..self.corners.len() {
+            if traced[start] || !is_boundary(start) {
+                continue;
+            }
+            let r = region_of(start);
+            let mut chain = Vec::new();
+            let mut h = start;
+            loop {
+                traced[h] = true;
+                chain.push(h);
+                let mut g = self.next(h);
+                let mut guard = 0;
+                while !is_boundary(g) {
+                    g = self.next(self.twin[g] as usize);
+                    guard += 1;
+                    if guard > self.corners.len() {
                         report.push(
                             DefectKind::Degenerate,
                             format!(
-                                "the boundary of the face containing point {} does not close",
-                                fmt_point(self.points[at as usize])
+                                "the boundary of a face through point {} does not close",
+                                fmt_point(self.points[self.corners[h] as usize])
                             ),
                             "check the model for slivers or overlapping faces",
                         );
                         return None;
-                    };
-                    if next == start {
-                        break;
                     }
-                    chain.push(next);
-                    at = next;
                 }
-                let Some(first_corner) = chain.iter().position(|&v| is_corner(v)) else {
+                if g == start {
+                    break;
+                }
+                if traced[g] {
                     report.push(
                         DefectKind::Degenerate,
                         format!(
-                            "a boundary loop through point {} has no corner",
-                            fmt_point(self.points[start as usize])
+                            "the boundary of a face through point {} crosses itself",
+                            fmt_point(self.points[self.corners[g] as usize])
                         ),
-                        "check the model for faces meeting at 0 or 360 degrees",
+                        "check the model for faces touching at a single point",
                     );
                     return None;
-                };
-                chain.rotate_left(first_corner);
-                let mut raw = RawLoop {
-                    corners: Vec::new(),
-                    edges: Vec::new(),
-                };
-                let m = chain.len();
-                let mut i = 0;
-                while i < m {
-                    let from = chain[i];
-                    let mut j = i + 1;
-                    while j < m && !is_corner(chain[j]) {
-                        j += 1;
-                    }
-                    let to = chain[j % m];
-                    let right = region[self.twin(from, chain[(i + 1) % m]) as usize];
-                    let key = (from.min(to), from.max(to), r.min(right), r.max(right));
-                    let e = *edge_index.entry(key).or_insert_with(|| {
-                        raw_edges.push(RawEdge {
-                            left: r,
-                            right,
-                            from,
-                            to,
-                            sides_seen: 0,
-                        });
-                        raw_edges.len() - 1
-                    });
-                    raw_edges[e].sides_seen += 1;
-                    raw.corners.push(from);
-                    raw.edges.push(e);
-                    i = j;
                 }
-                region_loops.push(raw);
+                h = g;
             }
-            loops.push(region_loops);
+            let Some(first_corner) = chain.iter().position(|&h| is_corner(self.corners[h])) else {
+                report.push(
+                    DefectKind::Degenerate,
+                    format!(
+                        "a boundary loop through point {} has no corner",
+                        fmt_point(self.points[self.corners[start] as usize])
+                    ),
+                    "check the model for faces meeting at 0 or 360 degrees",
+                );
+                return None;
+            };
+            chain.rotate_left(first_corner);
+            let mut raw = RawLoop {
+                corners: Vec::new(),
+                edges: Vec::new(),
+            };
+            let m = chain.len();
+            let mut i = 0;
+            while i < m {
+                let from = self.corners[chain[i]];
+                let right = region_of(self.twin[chain[i]] as usize);
+                let mut j = i + 1;
+                while j < m && !is_corner(self.corners[chain[j]]) {
+                    j += 1;
+                }
+                let to = self.corners[chain[j % m]];
+                let key = (from.min(to), from.max(to), r.min(right), r.max(right));
+                let e = *edge_index.entry(key).or_insert_with(|| {
+                    raw_edges.push(RawEdge {
+                        left: r,
+                        right,
+                        from,
+                        to,
+                        sides_seen: 0,
+                    });
+                    raw_edges.len() - 1
+                });
+                raw_edges[e].sides_seen += 1;
+                raw.corners.push(from);
+                raw.edges.push(e);
+                i = j;
+            }
+            loops[r as usize].push(raw);
         }
         if raw_edges.iter().any(|e| e.sides_seen != 2) {
             report.push(
@@ -625,7 +706,7 @@ impl Mesh {
             )
         };
         corner_ids.sort_by_key(sort_key);
-        let mut vertex_of = HashMap::new();
+        let mut vertex_of = HashMap::default();
         for (i, &v) in corner_ids.iter().enumerate() {
             vertex_of.insert(v, VertexId(i as u32));
         }

@@ -1,0 +1,202 @@
+//! The `acsg` binary, end to end: outputs checked against hand-derived counts, every
+//! bad-input class checked for its message and exit code.
+
+use std::path::PathBuf;
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use predicates::str::contains;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name)
+}
+
+fn acsg() -> Command {
+    Command::cargo_bin("acsg").expect("binary built")
+}
+
+#[test]
+fn inspect_json_reports_the_papers_counts() {
+    let out = acsg()
+        .args(["inspect", "--json"])
+        .arg(fixture("l_block.stl"))
+        .arg(fixture("box.obj"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+    let l = &v["parts"][0];
+    let b = &v["parts"][1];
+    assert!(l["path"].as_str().unwrap().ends_with("l_block.stl"));
+    for (key, want) in [
+        ("faces", 8),
+        ("faces_with_holes", 0),
+        ("nonconvex_faces", 2),
+        ("vertices", 12),
+        ("convex_vertices", 10),
+        ("edges", 18),
+        ("convex_edges", 17),
+        ("concave_edges", 1),
+        ("convex_pieces", 2),
+    ] {
+        assert_eq!(l[key], want, "l_block {key}");
+    }
+    assert_eq!(l["volume"], 1_500_000.0);
+    for (key, want) in [
+        ("faces", 6),
+        ("vertices", 8),
+        ("convex_vertices", 8),
+        ("edges", 12),
+        ("convex_edges", 12),
+    ] {
+        assert_eq!(b[key], want, "box {key}");
+    }
+    assert_eq!(
+        v["ppc"],
+        serde_json::json!({"f_v": 64, "e_e": 204, "v_f": 60, "total": 328})
+    );
+}
+
+#[test]
+fn inspect_text_names_both_roles_and_card_ppc() {
+    acsg()
+        .arg("inspect")
+        .arg(fixture("block_with_hole.off"))
+        .arg(fixture("peg.stl"))
+        .assert()
+        .success()
+        .stdout(
+            contains("(fixed)")
+                .and(contains("(moving)"))
+                .and(contains("2 with holes"))
+                .and(contains("4 concave")),
+        )
+        // 10 faces x 8 + 20 x 12 + 8 x 6
+        .stdout(contains("card(PPC) = 368"));
+}
+
+#[test]
+fn demo_runs_with_no_files() {
+    acsg()
+        .arg("demo")
+        .assert()
+        .success()
+        .stdout(contains("card(PPC) = 328"));
+}
+
+/// Each bad input: the file, its message fragments, and the exit code 1.
+#[test]
+fn every_bad_input_gets_a_clear_error_and_exit_code_1() {
+    let cases: &[(&str, &[&str])] = &[
+        ("bad/empty.off", &["empty.off", "empty"]),
+        ("bad/whitespace.stl", &["whitespace.stl", "empty"]),
+        (
+            "bad/open_box.off",
+            &[
+                "open_box.off",
+                "not closed",
+                "(0, 0, 10) - (10, 0, 10)",
+                "add the missing faces",
+            ],
+        ),
+        (
+            "bad/nonmanifold.off",
+            &["nonmanifold.off", "not manifold", "(10, 10, 0) - (10, 10, 10)"],
+        ),
+        (
+            "bad/flipped_face.off",
+            &[
+                "flipped_face.off",
+                "inconsistent orientation",
+                "line 13",
+                "reverse the winding",
+            ],
+        ),
+        (
+            "bad/inward.off",
+            &["inward.off", "inward orientation", "-1000", "flip normals"],
+        ),
+        ("bad/zero_area.off", &["zero_area.off", "zero-area face", "line 21"]),
+        ("bad/nan.off", &["nan.off", "line 11", "vertex 7", "not finite"]),
+        ("bad/inf.obj", &["inf.obj", "not finite"]),
+        (
+            "bad/nonplanar.off",
+            &["nonplanar.off", "not planar", "line 13", "split the polygon"],
+        ),
+        ("bad/truncated.stl", &["truncated.stl", "12", "6"]),
+        ("bad/bad_index.off", &["bad_index.off", "line 13", "42"]),
+        ("bad/garbage.obj", &["garbage.obj", "abc"]),
+        (
+            "bad/two_shells.off",
+            &["two_shells.off", "2 separate closed shells", "one solid in each file"],
+        ),
+    ];
+    for (name, fragments) in cases {
+        let out = acsg().arg("inspect").arg(fixture(name)).output().unwrap();
+        assert_eq!(out.status.code(), Some(1), "{name}: exit code");
+        assert!(out.stdout.is_empty(), "{name}: printed a result");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{name} panicked: {err}");
+        for f in *fragments {
+            assert!(err.contains(f), "{name}: message lacks {f:?}:\n{err}");
+        }
+    }
+}
+
+#[test]
+fn missing_file_and_unknown_format_are_errors() {
+    acsg()
+        .args(["inspect", "no/such/file.off"])
+        .assert()
+        .code(1)
+        .stderr(contains("no/such/file.off").and(contains("cannot read")));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("notes.txt");
+    std::fs::write(&path, "these are not the vertices you are looking for\n").unwrap();
+    acsg()
+        .arg("inspect")
+        .arg(&path)
+        .assert()
+        .code(1)
+        .stderr(contains("notes.txt").and(contains("unknown model format")));
+}
+
+#[test]
+fn huge_file_is_refused_before_reading() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("huge.stl");
+    let file = std::fs::File::create(&path).unwrap();
+    file.set_len(2 << 30).unwrap(); // sparse: takes no disk space
+    acsg()
+        .arg("inspect")
+        .arg(&path)
+        .assert()
+        .code(1)
+        .stderr(contains("huge.stl").and(contains("limit")));
+}
+
+#[test]
+fn mislabelled_file_is_read_by_its_content() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cube.stl");
+    std::fs::copy(fixture("cube.off"), &path).unwrap();
+    acsg()
+        .arg("inspect")
+        .arg(&path)
+        .assert()
+        .success()
+        .stdout(contains("12 convex"));
+}
+
+#[test]
+fn bad_usage_exits_2() {
+    acsg()
+        .args(["inspect", "--frobnicate"])
+        .assert()
+        .code(2)
+        .stderr(contains("--frobnicate"));
+    acsg().arg("inspect").assert().code(2);
+    acsg().arg("no-such-command").assert().code(2);
+}
