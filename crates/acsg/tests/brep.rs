@@ -178,3 +178,62 @@ fn convex_pieces_are_exact() {
         }
     }
 }
+
+#[test]
+fn each_bad_fixture_reports_its_defect_class() {
+    use acsg::model::{DefectKind, ModelError};
+    for (name, kind) in [
+        ("bad/open_box.off", DefectKind::NotClosed),
+        ("bad/nonmanifold.off", DefectKind::NotManifold),
+        ("bad/flipped_face.off", DefectKind::InconsistentOrientation),
+        ("bad/inward.off", DefectKind::InwardOrientation),
+        ("bad/zero_area.off", DefectKind::ZeroArea),
+        ("bad/nonplanar.off", DefectKind::NotPlanar),
+        ("bad/two_shells.off", DefectKind::SeveralShells),
+    ] {
+        match Part::from_path(&fixture(name)) {
+            Err(ModelError::Invalid { name: path, report }) => {
+                assert!(path.ends_with(name), "{path}");
+                assert!(report.defects().iter().all(|d| d.kind == kind), "{name}: {report}");
+                assert!(!report.defects().is_empty());
+                assert!(
+                    report
+                        .defects()
+                        .iter()
+                        .all(|d| !d.fix.is_empty() && !d.place.is_empty())
+                );
+            }
+            other => panic!("{name}: expected a {kind:?} report, got {other:?}"),
+        }
+    }
+    for name in [
+        "bad/empty.off",
+        "bad/whitespace.stl",
+        "bad/nan.off",
+        "bad/inf.obj",
+        "bad/truncated.stl",
+        "bad/bad_index.off",
+        "bad/garbage.obj",
+    ] {
+        assert!(
+            matches!(Part::from_path(&fixture(name)), Err(ModelError::Read(_))),
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn a_gap_anywhere_in_a_fine_mesh_is_reported_with_its_place() {
+    let part = load("l_block.stl");
+    let mut soup = acsg::topology::refine::triangle_soup(&part);
+    soup = acsg::topology::refine::refine_midpoints(&soup);
+    let removed = soup.polygons.remove(17);
+    let err = Part::try_new(&soup, "holey").expect_err("a gap");
+    let report = err.report().expect("a validation report");
+    assert!(report.has(acsg::model::DefectKind::NotClosed));
+    // The three edges of the removed triangle are the gap.
+    assert_eq!(report.defects().len(), 3);
+    let corner = soup.positions[removed[0] as usize];
+    let text = format!("({}, {}, {})", corner.x, corner.y, corner.z);
+    assert!(report.to_string().contains(&text), "{report}");
+}
