@@ -14,6 +14,7 @@ pub mod obj;
 pub mod off;
 pub mod ply;
 pub mod stl;
+mod text;
 
 /// Inputs larger than this are refused before they are read (1 GiB holds a binary STL
 /// of about 21 million triangles).

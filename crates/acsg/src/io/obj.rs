@@ -17,7 +17,7 @@
 
 use std::io::Read;
 
-use super::off::{TextLines, finite_vertex, parse_f64, read_limited, strip_comment, to_u32};
+use super::text::{TextLines, finite_vertex, parse_f64, read_limited, strip_comment, to_u32};
 use super::{MeshSoup, ParseError, Place};
 
 /// Reads an OBJ model.

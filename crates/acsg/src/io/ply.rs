@@ -17,7 +17,7 @@ use ply_rs_bw::ply::{
     ElementDef, Encoding, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
-use super::off::{TextLines, finite_vertex, parse_f64, read_limited, to_u32};
+use super::text::{TextLines, finite_vertex, parse_f64, read_limited, to_u32};
 use super::{MeshSoup, ParseError, Place};
 
 /// Reads a PLY model, ASCII or binary.

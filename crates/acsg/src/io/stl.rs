@@ -16,7 +16,7 @@ use std::io::{Cursor, Read};
 
 use glam::DVec3;
 
-use super::off::{TextLines, finite_vertex, parse_f64, read_limited, to_u32};
+use super::text::{TextLines, finite_vertex, parse_f64, read_limited, to_u32};
 use super::{MeshSoup, ParseError, Place};
 
 /// Bytes before the first triangle of a binary STL: header and triangle count.
