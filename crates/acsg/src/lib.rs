@@ -14,9 +14,11 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod contact;
 pub mod convex;
 pub mod examples;
 pub mod io;
 pub mod model;
+pub mod pose;
 pub mod tolerance;
 pub mod topology;

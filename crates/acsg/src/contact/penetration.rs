@@ -1,0 +1,1 @@
+//! Penetration of two parts at a pose, on their exact convex pieces.
