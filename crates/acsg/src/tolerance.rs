@@ -55,3 +55,10 @@ macro_rules! assert_near {
         );
     }};
 }
+
+/// Largest deviation `max |RᵀR − I|` accepted for the rotation part of a rigid
+/// transform (dimensionless; admits matrices written with ~7 significant digits).
+pub const RIGID_REL: f64 = 1e-6;
+
+/// Two unit directions whose cross product is shorter than this are parallel.
+pub const PARALLEL_SIN: f64 = 1e-9;

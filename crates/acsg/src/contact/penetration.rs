@@ -1,1 +1,397 @@
 //! Penetration of two parts at a pose, on their exact convex pieces.
+//!
+//! Two convex polytopes are compared by the separating axis theorem (SAT): the candidate
+//! axes are the face normals of both polytopes and the cross products of their edge
+//! directions. Along each axis the projections of the two polytopes are intervals; their
+//! overlap is how far one polytope must move along that axis to just touch the other.
+//! The smallest overlap over the candidates is
+//! - when positive, the exact penetration depth (minimum translation distance): the
+//!   normals of the Minkowski difference's facets are among the candidates;
+//! - when zero, touching;
+//! - when negative, minus the largest separation along a candidate axis, a lower bound
+//!   of the Euclidean distance (equal to it when the closest features are face-vertex
+//!   or edge-edge).
+//!
+//! A non-convex part is handled through its exact convex pieces
+//! ([`Part::convex_pieces`]), taking the worst pair (DOMAIN.md section 7). Because the
+//! pieces are solids, a part wholly inside the other is reported as penetrating (a
+//! surface-only test would miss it).
+
+use glam::{DAffine3, DVec3};
+
+use crate::convex::ConvexPolytope;
+use crate::model::Part;
+use crate::tolerance::{SEPARATION_REL, scaled};
+
+/// An edge pair closer to parallel than this gives no axis, and parallel face normals
+/// or edge directions are kept once.
+use crate::tolerance::PARALLEL_SIN;
+
+/// The result of a separating axis test between two convex polytopes A and B.
+///
+/// The plane `axis · p = offset` is in A's frame. When `depth <= 0` it separates the two
+/// polytopes (`axis · p <= offset` on A, `axis · p >= offset` on B): a certificate of no
+/// penetration. When `depth > 0` it is the plane across the axis of least penetration,
+/// half-way into the overlap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Separation {
+    /// Minimum translation distance along `axis`: > 0 penetrating (how far B must move
+    /// along `axis` to just touch A), 0 touching, < 0 separated (then `-depth` is the gap
+    /// along `axis`, a lower bound of the Euclidean distance).
+    pub depth: f64,
+    /// Unit axis, pointing from A towards B.
+    pub axis: DVec3,
+    /// Offset of the separating (or least-penetration) plane along `axis`.
+    pub offset: f64,
+}
+
+/// Penetration of two parts at a pose, over all nearby pairs of their convex pieces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PenetrationReport {
+    /// The worst (largest) value over all pairs of pieces: the exact [`Separation::depth`]
+    /// for an examined pair, minus the gap between the bounding boxes for a pair whose
+    /// boxes are farther apart than the margin (`SEPARATION_REL · L`). So `depth > 0`
+    /// means an examined pair penetrates by `depth`, and `depth <= 0` means the parts
+    /// are at least `-depth` apart. `f64::NEG_INFINITY` when a part has no pieces.
+    pub depth: f64,
+    /// The pair `(fixed piece, moving piece)` achieving `depth` (indices into
+    /// [`Part::convex_pieces`]), `None` when a part has no pieces.
+    pub pieces: Option<(usize, usize)>,
+    /// For every examined pair `(fixed piece, moving piece, axis, offset)`: the plane
+    /// `axis · p = offset` in the fixed part's frame of [`Separation`] (a separating
+    /// plane whenever that pair does not penetrate). Pairs whose bounding boxes are
+    /// farther apart than the margin are not examined and have no plane here.
+    pub certificates: Vec<(usize, usize, DVec3, f64)>,
+}
+
+/// A convex polytope reduced to what SAT needs, in the frame of the comparison.
+struct Hull {
+    vertices: Vec<DVec3>,
+    /// Distinct face normal directions (unit; antiparallel normals kept once).
+    normals: Vec<DVec3>,
+    /// Distinct edge directions (unit; antiparallel directions kept once).
+    edges: Vec<DVec3>,
+    min: DVec3,
+    max: DVec3,
+}
+
+impl Hull {
+    /// The polytope, mapped by `transform` when given (normals by the inverse transpose,
+    /// so a non-rigid but invertible map is also handled).
+    fn new(polytope: &ConvexPolytope, transform: Option<&DAffine3>) -> Hull {
+        let normal_matrix = transform.map(|t| t.matrix3.inverse().transpose());
+        let point = |p: DVec3| transform.map_or(p, |t| t.transform_point3(p));
+        let vector = |v: DVec3| transform.map_or(v, |t| t.transform_vector3(v));
+        let vertices: Vec<DVec3> = polytope.vertices().iter().map(|&p| point(p)).collect();
+        let mut normals = Vec::new();
+        let mut edges = Vec::new();
+        for face in polytope.faces() {
+            push_direction(&mut normals, normal_matrix.map_or(face.normal, |m| m * face.normal));
+            let n = face.points.len();
+            for (i, &p) in face.points.iter().enumerate() {
+                push_direction(&mut edges, vector(face.points[(i + 1) % n] - p));
+            }
+        }
+        let (min, max) = vertices.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        Hull {
+            vertices,
+            normals,
+            edges,
+            min,
+            max,
+        }
+    }
+
+    /// The interval of the projections of the vertices onto `axis`.
+    fn extent(&self, axis: DVec3) -> (f64, f64) {
+        self.vertices
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                let s = axis.dot(*p);
+                (lo.min(s), hi.max(s))
+            })
+    }
+
+    /// The largest gap between the two bounding boxes along a coordinate axis
+    /// (negative when they overlap).
+    fn box_gap(&self, other: &Hull) -> f64 {
+        (other.min - self.max).max(self.min - other.max).max_element()
+    }
+}
+
+/// Adds the unit direction of `v` unless it is zero or parallel to one already listed.
+fn push_direction(list: &mut Vec<DVec3>, v: DVec3) {
+    let d = v.normalize_or_zero();
+    if d != DVec3::ZERO && d.is_finite() && !list.iter().any(|e| e.cross(d).length() < PARALLEL_SIN) {
+        list.push(d);
+    }
+}
+
+/// SAT on two hulls in the same frame.
+fn separate(a: &Hull, b: &Hull) -> Separation {
+    let mut best = Separation {
+        depth: f64::INFINITY,
+        axis: DVec3::X,
+        offset: 0.0,
+    };
+    if a.vertices.is_empty() || b.vertices.is_empty() {
+        best.depth = f64::NEG_INFINITY;
+        return best;
+    }
+    let mut consider = |axis: DVec3| {
+        let (min_a, max_a) = a.extent(axis);
+        let (min_b, max_b) = b.extent(axis);
+        // B above A along `axis`, or below it (then the axis is flipped).
+        let (up, down) = (max_a - min_b, max_b - min_a);
+        let candidate = if up <= down {
+            Separation {
+                depth: up,
+                axis,
+                offset: 0.5 * (max_a + min_b),
+            }
+        } else {
+            Separation {
+                depth: down,
+                axis: -axis,
+                offset: -0.5 * (min_a + max_b),
+            }
+        };
+        if candidate.depth < best.depth {
+            best = candidate;
+        }
+    };
+    for &n in a.normals.iter().chain(&b.normals) {
+        consider(n);
+    }
+    for &ea in &a.edges {
+        for &eb in &b.edges {
+            let c = ea.cross(eb);
+            let length = c.length();
+            if length >= PARALLEL_SIN {
+                consider(c / length);
+            }
+        }
+    }
+    best
+}
+
+/// Separation of two convex polytopes by the separating axis theorem, in A's frame.
+///
+/// B's points are mapped into A's frame by `b_to_a` (rigid in practice; any invertible
+/// affine map works). The candidate axes are A's face normals, B's face normals and the
+/// normalised cross products of each edge direction of A with each of B (near-parallel
+/// pairs skipped); parallel directions are tested once. The axis with the smallest
+/// overlap wins, the first in that order on ties. Two boxes test 3 + 3 + 3·3 = 15 axes.
+///
+/// ```
+/// use acsg::contact::penetration::convex_separation;
+/// use acsg::convex::ConvexPolytope;
+/// use glam::{DAffine3, DVec3};
+///
+/// let a = ConvexPolytope::cuboid(DVec3::ZERO, DVec3::ONE);
+/// let b = ConvexPolytope::cuboid(DVec3::ZERO, DVec3::ONE);
+/// let s = convex_separation(&a, &b, &DAffine3::from_translation(DVec3::new(0.75, 0.0, 0.0)));
+/// assert!((s.depth - 0.25).abs() < 1e-12);
+/// assert_eq!(s.axis, DVec3::X);
+/// ```
+#[must_use]
+pub fn convex_separation(a: &ConvexPolytope, b: &ConvexPolytope, b_to_a: &DAffine3) -> Separation {
+    separate(&Hull::new(a, None), &Hull::new(b, Some(b_to_a)))
+}
+
+/// Penetration of the moving part, placed by `moving_to_fixed`, into the fixed part.
+///
+/// Every pair of convex pieces whose bounding boxes (in the fixed frame) are within the
+/// margin `SEPARATION_REL · L` of each other is tested exactly with SAT, `L` being the
+/// larger bounding-box diagonal of the two parts; the other pairs count as separated by
+/// their box gap. A part wholly inside the other penetrates, since the pieces are
+/// solids. The moving part's pieces are transformed once per call.
+#[must_use]
+pub fn penetration(fixed: &Part, moving: &Part, moving_to_fixed: &DAffine3) -> PenetrationReport {
+    let a: Vec<Hull> = fixed.convex_pieces().iter().map(|p| Hull::new(p, None)).collect();
+    let b: Vec<Hull> = moving
+        .convex_pieces()
+        .iter()
+        .map(|p| Hull::new(p, Some(moving_to_fixed)))
+        .collect();
+    let length = fixed.bounds().diagonal().max(moving.bounds().diagonal());
+    let margin = scaled(SEPARATION_REL, length);
+    let mut report = PenetrationReport {
+        depth: f64::NEG_INFINITY,
+        pieces: None,
+        certificates: Vec::new(),
+    };
+    for (i, ha) in a.iter().enumerate() {
+        for (j, hb) in b.iter().enumerate() {
+            let gap = ha.box_gap(hb);
+            let depth = if gap > margin {
+                -gap
+            } else {
+                let s = separate(ha, hb);
+                report.certificates.push((i, j, s.axis, s.offset));
+                s.depth
+            };
+            if report.pieces.is_none() || depth > report.depth {
+                report.depth = depth;
+                report.pieces = Some((i, j));
+            }
+        }
+    }
+    report
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+    use glam::{DMat3, DQuat};
+    use std::path::Path;
+
+    fn fixture(name: &str) -> Part {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures").join(name);
+        Part::from_path(&path).expect("fixture loads")
+    }
+
+    fn unit_cube() -> ConvexPolytope {
+        ConvexPolytope::cuboid(DVec3::ZERO, DVec3::ONE)
+    }
+
+    fn shift(x: f64, y: f64, z: f64) -> DAffine3 {
+        DAffine3::from_translation(DVec3::new(x, y, z))
+    }
+
+    #[test]
+    fn overlapping_cubes_penetrate_along_the_shallow_axis() {
+        let s = convex_separation(&unit_cube(), &unit_cube(), &shift(0.75, 0.1, -0.2));
+        assert_near!(s.depth, 0.25, 1e-12);
+        assert_eq!(s.axis, DVec3::X);
+        // B below A: the axis still points from A towards B.
+        let s = convex_separation(&unit_cube(), &unit_cube(), &shift(0.0, 0.0, -0.9));
+        assert_near!(s.depth, 0.1, 1e-12);
+        assert_eq!(s.axis, -DVec3::Z);
+        assert_near!(s.offset, -0.05, 1e-12);
+    }
+
+    #[test]
+    fn separated_cubes_give_a_separating_plane() {
+        let s = convex_separation(&unit_cube(), &unit_cube(), &shift(0.2, -1.5, 0.3));
+        assert_near!(s.depth, -0.5, 1e-12);
+        assert_eq!(s.axis, -DVec3::Y);
+        assert_near!(s.offset, 0.25, 1e-12); // the plane y = -0.25
+    }
+
+    #[test]
+    fn touching_and_contained_cubes() {
+        let s = convex_separation(&unit_cube(), &unit_cube(), &shift(0.0, 1.0, 0.5));
+        assert_near!(s.depth, 0.0, 1e-12);
+        let small = ConvexPolytope::cuboid(DVec3::splat(0.4), DVec3::splat(0.5));
+        let s = convex_separation(&unit_cube(), &small, &DAffine3::IDENTITY);
+        // Leaving through the nearest face (x, y or z = 0) takes 0.5.
+        assert_near!(s.depth, 0.5, 1e-12);
+    }
+
+    #[test]
+    fn rotated_corner_penetrates_a_face() {
+        // A unit cube centred at the origin, turned 45° about z: its corner reaches
+        // √2/2 along x. Placed so the corner enters A's face x = 1 by 0.1.
+        let b = ConvexPolytope::cuboid(DVec3::splat(-0.5), DVec3::splat(0.5));
+        let centre = DVec3::new(1.0 + 0.5 * 2f64.sqrt() - 0.1, 0.5, 0.5);
+        let pose = DAffine3::from_rotation_translation(DQuat::from_rotation_z(std::f64::consts::FRAC_PI_4), centre);
+        let s = convex_separation(&unit_cube(), &b, &pose);
+        assert_near!(s.depth, 0.1, 1e-12);
+        assert!(s.axis.distance(DVec3::X) < 1e-12);
+    }
+
+    #[test]
+    fn edge_edge_axis_is_found() {
+        // A's ridge along y at x = z = 1 (outward direction (1,0,1)/√2) is crossed by an
+        // edge of B along (1,0,-1)/√2 pushed 0.05 into it. Neither A's face normals (x, z)
+        // nor B's ((1,0,-1)/√2, (1/2, ±1/√2, 1/2)) is that direction: only the cross
+        // product of the two edges gives the depth 0.05.
+        let s2 = 0.5f64.sqrt();
+        let rotation = DMat3::from_cols(
+            DVec3::new(s2, 0.0, -s2),
+            DVec3::new(0.5, s2, 0.5),
+            DVec3::new(0.5, -s2, 0.5),
+        );
+        let n = DVec3::new(1.0, 0.0, 1.0).normalize();
+        // B's edge along its x at y = z = -0.5 lies at centre - (1,0,1)/2 once rotated.
+        let centre = DVec3::new(1.0, 0.5, 1.0) + DVec3::new(0.5, 0.0, 0.5) - 0.05 * n;
+        let b = ConvexPolytope::cuboid(DVec3::splat(-0.5), DVec3::splat(0.5));
+        let s = convex_separation(&unit_cube(), &b, &DAffine3::from_mat3_translation(rotation, centre));
+        assert_near!(s.depth, 0.05, 1e-12);
+        assert!(s.axis.distance(n) < 1e-12);
+    }
+
+    #[test]
+    fn box_in_the_corner_of_the_l_block() {
+        let (l_block, boxed) = (fixture("l_block.off"), fixture("box.off"));
+        let l = l_block.bounds().diagonal().max(boxed.bounds().diagonal());
+        let at = |x, y, z| penetration(&l_block, &boxed, &shift(x, y, z));
+
+        let r = at(0.0, 0.0, 0.0);
+        assert!(r.depth.abs() <= 1e-9 * l, "touching floor and wall: {}", r.depth);
+        assert!(!r.certificates.is_empty());
+        // Lifted by 1 the box still touches the wall x = 150 (it only leaves the floor).
+        let r = at(0.0, 0.0, 1.0);
+        assert!(r.depth.abs() <= 1e-9 * l, "still on the wall: {}", r.depth);
+        // Lifted and moved away from the wall: separated by 1.
+        assert_near!(at(-1.0, 0.0, 1.0).depth, -1.0, 1e-9 * l);
+        assert_near!(at(-3.0, 0.0, 2.0).depth, -2.0, 1e-9 * l);
+        // Into the wall by 1, into the floor by 2.
+        assert_near!(at(1.0, 0.0, 0.0).depth, 1.0, 1e-9 * l);
+        assert_near!(at(0.0, 0.0, -2.0).depth, 2.0, 1e-9 * l);
+    }
+
+    #[test]
+    fn certificates_separate_the_pieces() {
+        let (l_block, boxed) = (fixture("l_block.off"), fixture("box.off"));
+        let pose = shift(-1.0, 0.0, 1.0);
+        let r = penetration(&l_block, &boxed, &pose);
+        assert!(r.depth < 0.0);
+        for &(i, j, n, d) in &r.certificates {
+            for &p in l_block.convex_pieces()[i].vertices() {
+                assert!(n.dot(p) <= d + 1e-9);
+            }
+            for &p in boxed.convex_pieces()[j].vertices() {
+                assert!(n.dot(pose.transform_point3(p)) >= d - 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn part_inside_the_other_penetrates() {
+        // The cube [0,10]^3 moved to [20,30]^3, wholly inside the L's floor slab: no
+        // surface of either part meets the other's, yet the pieces overlap. Along every
+        // axis the cheapest exit is 30 (20 to the floor's face and 10 of the cube).
+        let (l_block, cube) = (fixture("l_block.off"), fixture("cube.off"));
+        let r = penetration(&l_block, &cube, &shift(20.0, 20.0, 20.0));
+        assert_near!(r.depth, 30.0, 1e-9);
+        assert!(r.pieces.is_some());
+    }
+
+    #[test]
+    fn peg_in_the_hole() {
+        let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let l = block.bounds().diagonal().max(peg.bounds().diagonal());
+        let r = penetration(&block, &peg, &DAffine3::IDENTITY);
+        assert_near!(r.depth, -1.0, 1e-9 * l);
+        // The peg's pieces stand in the hole: their corners are outside every block piece.
+        for piece in peg.convex_pieces() {
+            for &p in piece.vertices() {
+                assert!(
+                    block
+                        .convex_pieces()
+                        .iter()
+                        .all(|q| q.outside_distance(p) >= 1.0 - 1e-9)
+                );
+            }
+        }
+        let r = penetration(&block, &peg, &shift(2.0, 0.0, 0.0));
+        assert_near!(r.depth, 1.0, 1e-9 * l);
+        assert!(!r.certificates.is_empty());
+    }
+}

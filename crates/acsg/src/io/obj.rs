@@ -169,6 +169,7 @@ fn parse_corner(token: &str, face: usize, defined: usize, place: Place) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::text::testing::{expect_err, read_every_prefix, xorshift};
     use glam::DVec3;
 
     const CUBE: &str = "# a unit cube
@@ -198,10 +199,7 @@ f 4 1 5 8
 ";
 
     fn err(text: &str) -> ParseError {
-        match read(text.as_bytes()) {
-            Ok(soup) => panic!("expected an error, got {soup:?}"),
-            Err(e) => e,
-        }
+        expect_err(read(text.as_bytes()))
     }
 
     #[test]
@@ -296,17 +294,13 @@ f 4 1 5 8
     #[test]
     fn never_panics_on_prefixes_and_garbage() {
         let bytes = CUBE.as_bytes();
-        for end in 0..=bytes.len() {
-            let _ = read(&bytes[..end]);
-        }
+        read_every_prefix(|b| read(b), bytes);
         let mut state = 0x9e37_79b9_7f4a_7c15_u64;
         let alphabet = b"0123456789 -./\nvf#enai";
         for round in 0..500 {
             let mut garbage = Vec::new();
             for _ in 0..(round % 113) {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
+                xorshift(&mut state);
                 garbage.push(alphabet[(state % alphabet.len() as u64) as usize]);
                 if round % 3 == 0 {
                     garbage.push(state as u8);

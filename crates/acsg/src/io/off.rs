@@ -289,6 +289,7 @@ fn parse_counts(tokens: &[String], line: usize) -> Result<(usize, usize), ParseE
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::text::testing::{expect_err, read_every_prefix, xorshift};
     use glam::DVec3;
 
     const CUBE: &str = "OFF
@@ -315,10 +316,7 @@ mod tests {
     }
 
     fn err(text: &str) -> ParseError {
-        match parse_str(text) {
-            Ok(soup) => panic!("expected an error, got {soup:?}"),
-            Err(e) => e,
-        }
+        expect_err(parse_str(text))
     }
 
     #[test]
@@ -446,9 +444,7 @@ mod tests {
     #[test]
     fn never_panics_on_prefixes_and_garbage() {
         let bytes = CUBE.as_bytes();
-        for end in 0..=bytes.len() {
-            let _ = read(&bytes[..end]);
-        }
+        read_every_prefix(|b| read(b), bytes);
         let mut state = 0x2545_f491_4f6c_dd1d_u64;
         for round in 0..500 {
             let len = round % 97;
@@ -459,9 +455,7 @@ mod tests {
             };
             let alphabet = b"0123456789 -.\n#eOFnai";
             for _ in 0..len {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
+                xorshift(&mut state);
                 garbage.push(alphabet[(state % alphabet.len() as u64) as usize]);
                 garbage.push(state as u8);
             }

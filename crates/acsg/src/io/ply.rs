@@ -598,6 +598,7 @@ fn read_binary(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::text::testing::{expect_err, read_every_prefix, xorshift};
     use glam::DVec3;
 
     const CUBE_HEADER: &str = "ply
@@ -688,10 +689,7 @@ end_header
     }
 
     fn err(bytes: &[u8]) -> ParseError {
-        match read(bytes) {
-            Ok(soup) => panic!("expected an error, got {soup:?}"),
-            Err(e) => e,
-        }
+        expect_err(read(bytes))
     }
 
     #[test]
@@ -895,14 +893,10 @@ end_header
     #[test]
     fn never_panics_on_prefixes_and_garbage() {
         let ascii = cube_ascii();
-        for end in 0..=ascii.len() {
-            let _ = read(&ascii.as_bytes()[..end]);
-        }
+        read_every_prefix(|b| read(b), ascii.as_bytes());
         for big_endian in [false, true] {
             let binary = cube_binary(big_endian);
-            for end in 0..=binary.len() {
-                let _ = read(&binary[..end]);
-            }
+            read_every_prefix(|b| read(b), &binary);
         }
         let mut state = 0xda94_2042_e4dd_58b5_u64;
         let headers = [
@@ -916,9 +910,7 @@ end_header
             let keep = header_len(template);
             let mut garbage = template[..keep].to_vec();
             for _ in 0..(round % 157) {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
+                xorshift(&mut state);
                 garbage.push(if round % 8 == 2 {
                     b"0123456789 -\n"[(state % 13) as usize]
                 } else {

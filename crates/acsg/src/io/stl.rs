@@ -384,6 +384,7 @@ fn parse_facet(lines: &mut Lines<'_>, facet_line: usize, soup: &mut MeshSoup) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::text::testing::{expect_err, read_every_prefix, xorshift};
     use std::fmt::Write as _;
 
     /// The 12 triangles of a unit cube, counter-clockwise seen from outside.
@@ -448,10 +449,7 @@ mod tests {
     }
 
     fn err(bytes: &[u8]) -> ParseError {
-        match read(bytes) {
-            Ok(soup) => panic!("expected an error, got {soup:?}"),
-            Err(e) => e,
-        }
+        expect_err(read(bytes))
     }
 
     #[test]
@@ -614,14 +612,10 @@ mod tests {
     #[test]
     fn never_panics_on_prefixes_and_garbage() {
         let ascii = cube_ascii();
-        for end in 0..=ascii.len() {
-            let _ = read(&ascii.as_bytes()[..end]);
-        }
+        read_every_prefix(|b| read(b), ascii.as_bytes());
         for header in [&b""[..], b"solid x"] {
             let binary = cube_binary(header);
-            for end in 0..=binary.len() {
-                let _ = read(&binary[..end]);
-            }
+            read_every_prefix(|b| read(b), &binary);
         }
         let mut state = 0x853c_49e6_748f_ea9b_u64;
         for round in 0..300 {
@@ -631,9 +625,7 @@ mod tests {
                 _ => Vec::new(),
             };
             for _ in 0..(round % 211) {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
+                xorshift(&mut state);
                 garbage.push(state as u8);
             }
             let len = garbage.len();

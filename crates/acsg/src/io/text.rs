@@ -120,3 +120,33 @@ pub(crate) fn to_u32(index: usize, place: Place) -> Result<u32, ParseError> {
         )
     })
 }
+
+/// Helpers shared by the readers' tests.
+#[cfg(test)]
+pub(crate) mod testing {
+    use super::super::{MeshSoup, ParseError};
+
+    /// The error a reader must give; panics with the soup if it reads fine.
+    pub(crate) fn expect_err(result: Result<MeshSoup, ParseError>) -> ParseError {
+        match result {
+            Ok(soup) => panic!("expected an error, got {soup:?}"),
+            Err(e) => e,
+        }
+    }
+
+    /// One step of a xorshift generator: deterministic garbage without a dependency.
+    pub(crate) fn xorshift(state: &mut u64) -> u64 {
+        *state ^= *state << 13;
+        *state ^= *state >> 7;
+        *state ^= *state << 17;
+        *state
+    }
+
+    /// Feeds every prefix of a valid input to a reader, which must return (Ok or Err)
+    /// without panicking.
+    pub(crate) fn read_every_prefix(read: impl Fn(&[u8]) -> Result<MeshSoup, ParseError>, bytes: &[u8]) {
+        for end in 0..=bytes.len() {
+            let _ = read(&bytes[..end]);
+        }
+    }
+}

@@ -21,7 +21,7 @@ use glam::{DVec2, DVec3};
 use crate::io::MeshSoup;
 use crate::model::validation::{DefectKind, ValidationReport};
 use crate::model::{Aabb, Edge, EdgeId, Face, FaceId, Loop, Vertex, VertexId};
-use crate::tolerance::{AREA_REL, COPLANAR_REL, WELD_REL, scaled};
+use crate::tolerance::{AREA_REL, COPLANAR_REL, PARALLEL_SIN, WELD_REL, scaled};
 
 /// The boundary representation as built from a soup, before convex decomposition.
 #[derive(Clone, Debug)]
@@ -850,7 +850,7 @@ impl Mesh {
         for e in &mut edges {
             let [a, b] = e.vertices.map(|v| vertices[v.index()].position);
             let cross = faces[e.faces[0].index()].normal.cross(faces[e.faces[1].index()].normal);
-            if cross.length() < 1e-9 {
+            if cross.length() < PARALLEL_SIN {
                 report.push(
                     DefectKind::Degenerate,
                     format!(

@@ -1,0 +1,172 @@
+//! Property tests of the separating axis test (`acsg::contact::penetration`) against
+//! facts computed independently here: interval overlaps of axis-aligned boxes, vertex
+//! containment, the separating planes themselves, projections on random directions,
+//! symmetry of the two roles, and translations along the reported axis.
+
+use std::path::Path;
+use std::sync::OnceLock;
+
+use acsg::contact::penetration::{convex_separation, penetration};
+use acsg::convex::ConvexPolytope;
+use acsg::model::Part;
+use glam::{DAffine3, DQuat, DVec3};
+use proptest::prelude::*;
+
+fn vec3(lo: f64, hi: f64) -> impl Strategy<Value = DVec3> {
+    (lo..hi, lo..hi, lo..hi).prop_map(|(x, y, z)| DVec3::new(x, y, z))
+}
+
+fn unit_vector() -> impl Strategy<Value = DVec3> {
+    vec3(-1.0, 1.0).prop_map(|v| v.try_normalize().unwrap_or(DVec3::X))
+}
+
+fn rotation() -> impl Strategy<Value = DQuat> {
+    (unit_vector(), 0.0..std::f64::consts::TAU).prop_map(|(axis, angle)| DQuat::from_axis_angle(axis, angle))
+}
+
+/// The box `[-h, h]`.
+fn centred_box(h: DVec3) -> ConvexPolytope {
+    ConvexPolytope::cuboid(-h, h)
+}
+
+/// The interval of the projections of some points onto `u`.
+fn extent(points: impl Iterator<Item = DVec3>, u: DVec3) -> (f64, f64) {
+    points.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+        (lo.min(u.dot(p)), hi.max(u.dot(p)))
+    })
+}
+
+/// Hand formula for two axis-aligned boxes: the smallest interval overlap over x, y, z
+/// (when the boxes are apart, minus the largest gap).
+fn aabb_depth(a_min: DVec3, a_max: DVec3, b_min: DVec3, b_max: DVec3) -> f64 {
+    (0..3)
+        .map(|k| (a_max[k] - b_min[k]).min(b_max[k] - a_min[k]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn cube_fixture() -> &'static Part {
+    static CUBE: OnceLock<Part> = OnceLock::new();
+    CUBE.get_or_init(|| {
+        Part::from_path(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cube.off")).expect("cube loads")
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    #[test]
+    fn axis_aligned_boxes_match_interval_overlaps(
+        a_min in vec3(-2.0, 2.0),
+        a_size in vec3(0.1, 3.0),
+        b_size in vec3(0.1, 3.0),
+        t in vec3(-5.0, 5.0),
+    ) {
+        let a = ConvexPolytope::cuboid(a_min, a_min + a_size);
+        let b = ConvexPolytope::cuboid(DVec3::ZERO, b_size);
+        let s = convex_separation(&a, &b, &DAffine3::from_translation(t));
+        let expected = aabb_depth(a_min, a_min + a_size, t, t + b_size);
+        let l = a_size.length().max(b_size.length());
+        prop_assert!((s.depth - expected).abs() <= 1e-9 * l, "depth {} expected {}", s.depth, expected);
+        // The winning axis is a coordinate axis.
+        prop_assert!(s.axis.abs().max_element() > 1.0 - 1e-12);
+    }
+
+    #[test]
+    fn parts_of_axis_aligned_cubes_match_interval_overlaps(t in vec3(-15.0, 15.0)) {
+        // The fixture cube [0,10]^3 against itself, translated: one piece each.
+        let cube = cube_fixture();
+        let r = penetration(cube, cube, &DAffine3::from_translation(t));
+        let expected = aabb_depth(DVec3::ZERO, DVec3::splat(10.0), t, t + 10.0);
+        prop_assert!((r.depth - expected).abs() <= 1e-9 * 20.0, "depth {} expected {}", r.depth, expected);
+        prop_assert_eq!(r.pieces, Some((0, 0)));
+        // A pair is examined (has a plane) exactly when the boxes are within the margin.
+        prop_assert_eq!(r.certificates.len(), usize::from(expected >= -1e-6 * 20.0));
+    }
+
+    #[test]
+    fn rotated_boxes(
+        ha in vec3(0.2, 2.0),
+        hb in vec3(0.2, 2.0),
+        q in rotation(),
+        t in vec3(-3.0, 3.0),
+        probes in proptest::collection::vec(unit_vector(), 16),
+    ) {
+        let (a, b) = (centred_box(ha), centred_box(hb));
+        let pose = DAffine3::from_rotation_translation(q, t);
+        let inverse = pose.inverse();
+        let l = 2.0 * ha.length().max(hb.length());
+        let eps = 1e-9 * l;
+        let s = convex_separation(&a, &b, &pose);
+        let b_points = || b.vertices().iter().map(|&p| pose.transform_point3(p));
+        prop_assert!((s.axis.length() - 1.0).abs() < 1e-12);
+
+        // The roles of A and B swapped: same depth.
+        let swapped = convex_separation(&b, &a, &inverse);
+        prop_assert!((swapped.depth - s.depth).abs() <= eps, "{} vs swapped {}", s.depth, swapped.depth);
+
+        if s.depth < -eps {
+            // No corner of either box inside the other.
+            prop_assert!(b_points().all(|p| a.outside_distance(p) > 0.0));
+            prop_assert!(a.vertices().iter().all(|&p| b.outside_distance(inverse.transform_point3(p)) > 0.0));
+            // The plane separates them.
+            prop_assert!(a.vertices().iter().all(|&p| s.axis.dot(p) <= s.offset + 1e-9));
+            prop_assert!(b_points().all(|p| s.axis.dot(p) >= s.offset - 1e-9));
+            // The gap along the axis is the reported one.
+            let (_, max_a) = extent(a.vertices().iter().copied(), s.axis);
+            let (min_b, _) = extent(b_points(), s.axis);
+            prop_assert!((min_b - max_a + s.depth).abs() <= eps);
+        }
+        if s.depth > eps {
+            // No direction is cheaper to leave along than the reported depth.
+            for &u in &probes {
+                let (min_a, max_a) = extent(a.vertices().iter().copied(), u);
+                let (min_b, max_b) = extent(b_points(), u);
+                prop_assert!((max_a - min_b).min(max_b - min_a) >= s.depth - eps);
+            }
+            // Moving B out along the axis by the depth (and a hair) separates it.
+            let out = DAffine3::from_translation(s.axis * (s.depth * (1.0 + 1e-6) + eps)) * pose;
+            let after = convex_separation(&a, &b, &out);
+            prop_assert!(after.depth <= eps, "still penetrating by {}", after.depth);
+            // Half-way it still penetrates, by half (the depth is 1-Lipschitz in the translation).
+            let half = DAffine3::from_translation(s.axis * (0.5 * s.depth)) * pose;
+            let after = convex_separation(&a, &b, &half);
+            prop_assert!((after.depth - 0.5 * s.depth).abs() <= eps, "half-way {} of {}", after.depth, s.depth);
+        }
+    }
+
+    #[test]
+    fn face_on_face_touches(
+        ha in vec3(0.2, 2.0),
+        hb in vec3(0.2, 2.0),
+        angle in 0.0..std::f64::consts::TAU,
+        side in prop::bool::ANY,
+        yz in (-0.1f64..0.1, -0.1f64..0.1),
+    ) {
+        // B turned about x keeps its faces x = ±hb.x; put one on A's face x = ±ha.x.
+        let sign = if side { 1.0 } else { -1.0 };
+        let t = DVec3::new(sign * (ha.x + hb.x), yz.0, yz.1);
+        let pose = DAffine3::from_rotation_translation(DQuat::from_rotation_x(angle), t);
+        let s = convex_separation(&centred_box(ha), &centred_box(hb), &pose);
+        let l = 2.0 * ha.length().max(hb.length());
+        prop_assert!(s.depth.abs() <= 1e-9 * l, "depth {}", s.depth);
+    }
+
+    #[test]
+    fn box_inside_box_penetrates(
+        ha in vec3(1.0, 2.0),
+        hb in vec3(0.05, 0.2),
+        q in rotation(),
+        t in vec3(-0.5, 0.5),
+    ) {
+        // Every corner of B is within 0.5 + 0.2·√3 < 1 of the origin on each coordinate,
+        // so B is wholly inside A: no surfaces meet, yet it penetrates. Along any
+        // direction B's interval lies inside A's, so the overlap is at least B's width
+        // there, at least its smallest width 2·min(hb).
+        let (a, b) = (centred_box(ha), centred_box(hb));
+        let pose = DAffine3::from_rotation_translation(q, t);
+        prop_assert!(b.vertices().iter().all(|&p| a.outside_distance(pose.transform_point3(p)) < 0.0));
+        let s = convex_separation(&a, &b, &pose);
+        prop_assert!(s.depth >= 2.0 * hb.min_element() - 1e-9, "depth {}", s.depth);
+        prop_assert!(s.depth > 0.0);
+    }
+}
