@@ -1,0 +1,1 @@
+//! Pairwise distance queries between placed surface elements.
