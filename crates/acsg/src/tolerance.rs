@@ -62,3 +62,7 @@ pub const RIGID_REL: f64 = 1e-6;
 
 /// Two unit directions whose cross product is shorter than this are parallel.
 pub const PARALLEL_SIN: f64 = 1e-9;
+
+/// Element pairs that do not touch are searched for the smallest gap up to this
+/// distance, relative to `L`; farther pairs are reported only as "at least this far".
+pub const GAP_SEARCH_REL: f64 = 1e-2;

@@ -1,4 +1,250 @@
-//! Contact geometry at a pose: which elements touch, and whether the parts penetrate.
+//! Contact geometry at a pose: which elements touch, the contact state P(X) under the
+//! principal-contact rule (DOMAIN.md section 3), and whether the parts penetrate.
+//!
+//! ```
+//! use acsg::contact::{ContactKind, ContactScene};
+//! use glam::{DAffine3, DVec3};
+//!
+//! let (l_block, box_part) = acsg::examples::l_block_and_box();
+//! let scene = ContactScene::new(&l_block, &box_part);
+//! // At the assembled pose the box lies flat on the floor and against the wall.
+//! let report = scene.evaluate(&DAffine3::IDENTITY, acsg::tolerance::CONTACT_REL);
+//! let kinds: Vec<ContactKind> = report.contacts.iter().map(|c| c.kind).collect();
+//! assert_eq!(kinds, [ContactKind::FaceFace, ContactKind::FaceFace]);
+//! assert_eq!(report.penetration, 0.0);
+//! // Lifted by 10 it touches the wall only.
+//! let lifted = DAffine3::from_translation(DVec3::new(0.0, 0.0, 10.0));
+//! assert_eq!(scene.evaluate(&lifted, acsg::tolerance::CONTACT_REL).contacts.len(), 1);
+//! ```
 
+mod bvh;
 pub mod penetration;
+mod placed;
 pub mod queries;
+mod touch;
+
+use std::fmt;
+
+use glam::DAffine3;
+use serde::Serialize;
+
+pub use bvh::{Bounds3, Bvh};
+use placed::PlacedPart;
+
+use crate::model::{ElementId, Part};
+use crate::tolerance::{GAP_SEARCH_REL, scaled};
+
+/// The ten kinds of principal contact, the fixed part's element first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub enum ContactKind {
+    /// Face on face.
+    #[serde(rename = "f-f")]
+    FaceFace,
+    /// An edge of the moving part lying in a face of the fixed part.
+    #[serde(rename = "f-e")]
+    FaceEdge,
+    /// An edge of the fixed part lying in a face of the moving part.
+    #[serde(rename = "e-f")]
+    EdgeFace,
+    /// A vertex of the moving part on a face of the fixed part.
+    #[serde(rename = "f-v")]
+    FaceVertex,
+    /// A vertex of the fixed part on a face of the moving part.
+    #[serde(rename = "v-f")]
+    VertexFace,
+    /// Two edges crossing at a point.
+    #[serde(rename = "e-e")]
+    EdgeEdge,
+    /// Two collinear edges overlapping along a segment.
+    #[serde(rename = "e-e-t")]
+    EdgeEdgeTouch,
+    /// A vertex of the moving part inside an edge of the fixed part.
+    #[serde(rename = "e-v")]
+    EdgeVertex,
+    /// A vertex of the fixed part inside an edge of the moving part.
+    #[serde(rename = "v-e")]
+    VertexEdge,
+    /// Vertex on vertex.
+    #[serde(rename = "v-v")]
+    VertexVertex,
+}
+
+impl ContactKind {
+    /// The label used in outputs: `f-v`, `e-e-t`, ...
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            ContactKind::FaceFace => "f-f",
+            ContactKind::FaceEdge => "f-e",
+            ContactKind::EdgeFace => "e-f",
+            ContactKind::FaceVertex => "f-v",
+            ContactKind::VertexFace => "v-f",
+            ContactKind::EdgeEdge => "e-e",
+            ContactKind::EdgeEdgeTouch => "e-e-t",
+            ContactKind::EdgeVertex => "e-v",
+            ContactKind::VertexEdge => "v-e",
+            ContactKind::VertexVertex => "v-v",
+        }
+    }
+}
+
+impl fmt::Display for ContactKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.label())
+    }
+}
+
+/// One principal contact of a contact state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct PrincipalContact {
+    /// The element of the fixed part.
+    pub fixed: ElementId,
+    /// The element of the moving part.
+    pub moving: ElementId,
+    /// Its kind.
+    pub kind: ContactKind,
+}
+
+impl PrincipalContact {
+    /// Whether the contact is degenerate: v-v, e-v, v-e or e-e-t with both elements
+    /// convex (it holds only on a set that any small motion leaves).
+    #[must_use]
+    pub fn degenerate(&self, fixed: &Part, moving: &Part) -> bool {
+        use ContactKind::{EdgeEdgeTouch, EdgeVertex, VertexEdge, VertexVertex};
+        matches!(self.kind, VertexVertex | EdgeVertex | VertexEdge | EdgeEdgeTouch)
+            && element_convex(fixed, self.fixed)
+            && element_convex(moving, self.moving)
+    }
+
+    /// Degrees of freedom left by this contact alone (DOMAIN.md section 3): 5 for
+    /// single-point contacts, 4 for an edge in a face or a vertex in an edge, 3 for
+    /// face on face or vertex on vertex, 2 for collinear edges.
+    #[must_use]
+    pub fn dof(&self) -> u8 {
+        match self.kind {
+            ContactKind::FaceVertex | ContactKind::VertexFace | ContactKind::EdgeEdge => 5,
+            ContactKind::FaceEdge | ContactKind::EdgeFace | ContactKind::EdgeVertex | ContactKind::VertexEdge => 4,
+            ContactKind::FaceFace | ContactKind::VertexVertex => 3,
+            ContactKind::EdgeEdgeTouch => 2,
+        }
+    }
+}
+
+fn element_convex(part: &Part, e: ElementId) -> bool {
+    match e {
+        ElementId::Vertex(v) => part.vertex(v).convex,
+        ElementId::Edge(x) => part.edge(x).convex,
+        ElementId::Face(_) => true,
+    }
+}
+
+fn kind_of(a: ElementId, b: ElementId, along_segment: bool) -> ContactKind {
+    use ElementId::{Edge, Face, Vertex};
+    match (a, b) {
+        (Face(_), Face(_)) => ContactKind::FaceFace,
+        (Face(_), Edge(_)) => ContactKind::FaceEdge,
+        (Edge(_), Face(_)) => ContactKind::EdgeFace,
+        (Face(_), Vertex(_)) => ContactKind::FaceVertex,
+        (Vertex(_), Face(_)) => ContactKind::VertexFace,
+        (Edge(_), Edge(_)) if along_segment => ContactKind::EdgeEdgeTouch,
+        (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
+        (Edge(_), Vertex(_)) => ContactKind::EdgeVertex,
+        (Vertex(_), Edge(_)) => ContactKind::VertexEdge,
+        (Vertex(_), Vertex(_)) => ContactKind::VertexVertex,
+    }
+}
+
+/// What [`ContactScene::evaluate`] finds at one pose.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactReport {
+    /// P(X): the principal contacts, sorted by (fixed, moving) element.
+    pub contacts: Vec<PrincipalContact>,
+    /// How deep the parts penetrate (0 when touching or apart).
+    pub penetration: f64,
+    /// The smallest distance between two elements that do not touch, if below
+    /// [`GAP_SEARCH_REL`]` · L`; `None` when every such pair is at least that far apart.
+    pub min_gap: Option<f64>,
+    /// The absolute contact tolerance used.
+    pub tolerance: f64,
+}
+
+/// A fixed and a moving part, prepared for many contact evaluations: the fixed part's
+/// elements are placed and indexed once.
+#[derive(Debug)]
+pub struct ContactScene<'a> {
+    fixed: PlacedPart<'a>,
+    moving: &'a Part,
+    fixed_elements: Vec<ElementId>,
+    bvh: Bvh,
+    scale: f64,
+}
+
+impl<'a> ContactScene<'a> {
+    /// Prepares a scene.
+    #[must_use]
+    pub fn new(fixed: &'a Part, moving: &'a Part) -> ContactScene<'a> {
+        let placed = PlacedPart::new(fixed, &DAffine3::IDENTITY);
+        let fixed_elements = placed.elements();
+        let boxes: Vec<Bounds3> = fixed_elements.iter().map(|&e| placed.bounds(e)).collect();
+        let scale = fixed.bounds().diagonal().max(moving.bounds().diagonal());
+        ContactScene {
+            fixed: placed,
+            moving,
+            fixed_elements,
+            bvh: Bvh::new(&boxes),
+            scale,
+        }
+    }
+
+    /// L: the larger bounding-box diagonal of the two parts.
+    #[must_use]
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+
+    /// The contact state and penetration with the moving part placed by
+    /// `moving_to_fixed`; contacts hold within `relative_tolerance · L`.
+    #[must_use]
+    pub fn evaluate(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64) -> ContactReport {
+        let tol = scaled(relative_tolerance, self.scale);
+        let search = scaled(GAP_SEARCH_REL, self.scale).max(2.0 * tol);
+        let moving = PlacedPart::new(self.moving, moving_to_fixed);
+        let mut touches = Vec::new();
+        let mut min_gap: Option<f64> = None;
+        for b in moving.elements() {
+            let query = moving.bounds(b).inflated(search);
+            self.bvh.query(&query, |i| {
+                let a = self.fixed_elements[i as usize];
+                if let Some(set) = touch::touch(&self.fixed, a, &moving, b, tol) {
+                    touches.push((a, b, set));
+                } else {
+                    let d = touch::distance(&self.fixed, a, &moving, b);
+                    if d > tol && d < search {
+                        min_gap = Some(min_gap.map_or(d, |g| g.min(d)));
+                    }
+                }
+            });
+        }
+        let mut contacts: Vec<PrincipalContact> = touch::principal(self.fixed.part, self.moving, &touches, tol)
+            .into_iter()
+            .map(|(a, b)| {
+                let along_segment = touches
+                    .iter()
+                    .any(|(x, y, set)| (*x, *y) == (a, b) && matches!(set, touch::TouchSet::Segments(_)));
+                PrincipalContact {
+                    fixed: a,
+                    moving: b,
+                    kind: kind_of(a, b, along_segment),
+                }
+            })
+            .collect();
+        contacts.sort();
+        let depth = penetration::penetration(self.fixed.part, self.moving, moving_to_fixed).depth;
+        ContactReport {
+            contacts,
+            penetration: depth.max(0.0),
+            min_gap,
+            tolerance: tol,
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! A bounding volume hierarchy over element boxes: the broad phase that makes a part
+//! with thousands of faces cost little more than its near elements.
+
+use glam::DVec3;
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds3 {
+    /// Smallest corner.
+    pub min: DVec3,
+    /// Largest corner.
+    pub max: DVec3,
+}
+
+impl Bounds3 {
+    /// The box around some points.
+    #[must_use]
+    pub fn around(points: impl IntoIterator<Item = DVec3>) -> Bounds3 {
+        let mut b = Bounds3 {
+            min: DVec3::INFINITY,
+            max: DVec3::NEG_INFINITY,
+        };
+        for p in points {
+            b.min = b.min.min(p);
+            b.max = b.max.max(p);
+        }
+        b
+    }
+
+    /// The smallest box holding both.
+    #[must_use]
+    pub fn union(&self, other: &Bounds3) -> Bounds3 {
+        Bounds3 {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    /// This box grown by `r` on every side.
+    #[must_use]
+    pub fn inflated(&self, r: f64) -> Bounds3 {
+        Bounds3 {
+            min: self.min - DVec3::splat(r),
+            max: self.max + DVec3::splat(r),
+        }
+    }
+
+    /// Whether the boxes share a point.
+    #[must_use]
+    pub fn overlaps(&self, other: &Bounds3) -> bool {
+        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+    }
+
+    fn center(&self) -> DVec3 {
+        (self.min + self.max) * 0.5
+    }
+}
+
+#[derive(Clone, Debug)]
+enum Node {
+    Leaf { bounds: Bounds3, item: u32 },
+    Inner { bounds: Bounds3, left: u32, right: u32 },
+}
+
+impl Node {
+    fn bounds(&self) -> &Bounds3 {
+        match self {
+            Node::Leaf { bounds, .. } | Node::Inner { bounds, .. } => bounds,
+        }
+    }
+}
+
+/// A static hierarchy of boxes, built by median splits along the longest axis.
+#[derive(Clone, Debug, Default)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+}
+
+impl Bvh {
+    /// Builds the hierarchy over `boxes`; queries report indices into it.
+    #[must_use]
+    pub fn new(boxes: &[Bounds3]) -> Bvh {
+        let mut bvh = Bvh {
+            nodes: Vec::with_capacity(2 * boxes.len()),
+        };
+        let mut items: Vec<u32> = (0..boxes.len() as u32).collect();
+        if !items.is_empty() {
+            bvh.build(boxes, &mut items);
+        }
+        bvh
+    }
+
+    fn build(&mut self, boxes: &[Bounds3], items: &mut [u32]) -> u32 {
+        if let [item] = items {
+            self.nodes.push(Node::Leaf {
+                bounds: boxes[*item as usize],
+                item: *item,
+            });
+            return (self.nodes.len() - 1) as u32;
+        }
+        let bounds = items
+            .iter()
+            .skip(1)
+            .fold(boxes[items[0] as usize], |b, &i| b.union(&boxes[i as usize]));
+        let extent = bounds.max - bounds.min;
+        let axis = if extent.x >= extent.y && extent.x >= extent.z {
+            0
+        } else if extent.y >= extent.z {
+            1
+        } else {
+            2
+        };
+        let mid = items.len() / 2;
+        items.select_nth_unstable_by(mid, |&a, &b| {
+            boxes[a as usize].center()[axis].total_cmp(&boxes[b as usize].center()[axis])
+        });
+        let slot = self.nodes.len();
+        self.nodes.push(Node::Leaf { bounds, item: u32::MAX });
+        let (left_items, right_items) = items.split_at_mut(mid);
+        let left = self.build(boxes, left_items);
+        let right = self.build(boxes, right_items);
+        self.nodes[slot] = Node::Inner { bounds, left, right };
+        slot as u32
+    }
+
+    /// Calls `visit` with every item whose box overlaps `query`.
+    pub fn query(&self, query: &Bounds3, mut visit: impl FnMut(u32)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n as usize];
+            if !node.bounds().overlaps(query) {
+                continue;
+            }
+            match node {
+                Node::Leaf { item, .. } => visit(*item),
+                Node::Inner { left, right, .. } => stack.extend([*left, *right]),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn queries_match_brute_force() {
+        let mut state = 0x1234_5678_9abc_def0_u64;
+        let mut rand = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state % 10_000) as f64 / 100.0
+        };
+        let boxes: Vec<Bounds3> = (0..500)
+            .map(|_| {
+                let p = DVec3::new(rand(), rand(), rand());
+                Bounds3 {
+                    min: p,
+                    max: p + DVec3::new(rand(), rand(), rand()) * 0.05,
+                }
+            })
+            .collect();
+        let bvh = Bvh::new(&boxes);
+        for _ in 0..100 {
+            let p = DVec3::new(rand(), rand(), rand());
+            let q = Bounds3 {
+                min: p,
+                max: p + DVec3::splat(rand() * 0.2),
+            };
+            let mut found = Vec::new();
+            bvh.query(&q, |i| found.push(i));
+            found.sort_unstable();
+            let expected: Vec<u32> = (0..boxes.len() as u32)
+                .filter(|&i| boxes[i as usize].overlaps(&q))
+                .collect();
+            assert_eq!(found, expected);
+        }
+    }
+}

@@ -1,0 +1,355 @@
+//! I(a, b) = relint(a) ∩ relint(b) for a pair of placed elements, under a tolerance,
+//! and the principal rule of DOMAIN.md section 3.
+//!
+//! Relative interiors are shrunk by the tolerance `tol`: a point counts as inside an
+//! edge only when it is farther than `tol` from both end points, inside a face only
+//! when it is farther than `tol` from the face's boundary. A point touching near an
+//! edge's end is thereby classified as touching the end vertex, so every contact point
+//! is attributed to the lowest-dimensional elements it lies on.
+//!
+//! Crossings that only occur when the parts penetrate (an edge piercing a face, two
+//! faces crossing along a line) are not contacts; the penetration check reports them.
+
+use glam::DVec3;
+
+use super::placed::PlacedPart;
+use super::queries::{PlanarRegion, Segment, point_segment, segment_segment};
+use crate::model::{ElementId, Part};
+
+/// The set I(a, b) where two elements touch.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum TouchSet {
+    /// A single point.
+    Point(DVec3),
+    /// Segments (an edge lying along an edge, or in a face).
+    Segments(Vec<Segment>),
+    /// Convex planar pieces whose union is the overlap of two coplanar faces; `normal`
+    /// orients them (counter-clockwise).
+    Region { normal: DVec3, pieces: Vec<Vec<DVec3>> },
+}
+
+impl TouchSet {
+    fn dimension(&self) -> u8 {
+        match self {
+            TouchSet::Point(_) => 0,
+            TouchSet::Segments(_) => 1,
+            TouchSet::Region { .. } => 2,
+        }
+    }
+
+    /// Whether `other` lies in the closure of this set (within `tol`).
+    fn closure_contains(&self, other: &TouchSet, tol: f64) -> bool {
+        match (self, other) {
+            (TouchSet::Segments(segs), TouchSet::Point(p)) => segs.iter().any(|s| point_segment(*p, s).0 <= tol),
+            (TouchSet::Region { normal, pieces }, TouchSet::Point(p)) => pieces
+                .iter()
+                .any(|piece| convex_outside_distance(piece, *normal, *p) <= tol),
+            (TouchSet::Region { normal, pieces }, TouchSet::Segments(segs)) => {
+                segs.iter().all(|s| segment_covered(s, pieces, *normal, tol))
+            }
+            _ => false,
+        }
+    }
+}
+
+/// How far `p` lies outside a convex planar polygon (counter-clockwise around `normal`),
+/// counting the distance from the plane too; negative or zero inside.
+fn convex_outside_distance(piece: &[DVec3], normal: DVec3, p: DVec3) -> f64 {
+    let n = piece.len();
+    let plane = normal.dot(p - piece[0]).abs();
+    let sides = (0..n).map(|i| {
+        let (u, v) = (piece[i], piece[(i + 1) % n]);
+        let outward = (v - u).cross(normal).normalize_or_zero();
+        outward.dot(p - u)
+    });
+    sides.fold(plane, f64::max)
+}
+
+/// Whether a segment is covered by the union of convex pieces grown by `tol`.
+fn segment_covered(s: &Segment, pieces: &[Vec<DVec3>], normal: DVec3, tol: f64) -> bool {
+    let length = s.a.distance(s.b);
+    if length <= tol {
+        return pieces
+            .iter()
+            .any(|piece| convex_outside_distance(piece, normal, s.a) <= tol);
+    }
+    let mut intervals: Vec<(f64, f64)> = Vec::new();
+    for piece in pieces {
+        if normal.dot(s.a - piece[0]).abs() > tol || normal.dot(s.b - piece[0]).abs() > tol {
+            continue;
+        }
+        let (mut lo, mut hi) = (0.0f64, 1.0f64);
+        let n = piece.len();
+        for i in 0..n {
+            let (u, v) = (piece[i], piece[(i + 1) % n]);
+            let outward = (v - u).cross(normal).normalize_or_zero();
+            let (da, db) = (outward.dot(s.a - u) - tol, outward.dot(s.b - u) - tol);
+            if da > 0.0 && db > 0.0 {
+                hi = -1.0;
+                break;
+            }
+            if da > 0.0 {
+                lo = lo.max(da / (da - db));
+            } else if db > 0.0 {
+                hi = hi.min(da / (da - db));
+            }
+        }
+        if hi > lo {
+            intervals.push((lo, hi));
+        }
+    }
+    intervals.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let slack = tol / length;
+    let mut reached = 0.0;
+    for (lo, hi) in intervals {
+        if lo > reached + slack {
+            return false;
+        }
+        reached = f64::max(reached, hi);
+    }
+    reached >= 1.0 - slack
+}
+
+/// Distance from a point to a face's boundary.
+fn boundary_distance(region: &PlanarRegion<'_>, p: DVec3) -> f64 {
+    region
+        .boundary_segments()
+        .map(|s| point_segment(p, &s).0)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Whether a point touches the relative interior of a face (shrunk by `tol`).
+fn point_in_face(region: &PlanarRegion<'_>, p: DVec3, tol: f64) -> bool {
+    region.signed_distance(p).abs() <= tol && region.contains_projection(p) && boundary_distance(region, p) > tol
+}
+
+/// Whether `p` touches the relative interior of a segment (shrunk by `tol`).
+fn point_in_segment(s: &Segment, p: DVec3, tol: f64) -> bool {
+    point_segment(p, s).0 <= tol && p.distance(s.a) > tol && p.distance(s.b) > tol
+}
+
+fn line_distance(s: &Segment, p: DVec3) -> f64 {
+    let d = (s.b - s.a).normalize_or_zero();
+    (p - s.a).cross(d).length()
+}
+
+/// Two edges: a crossing point, or the overlap of two collinear edges.
+fn edge_edge(s1: &Segment, s2: &Segment, tol: f64) -> Option<TouchSet> {
+    let collinear = [s2.a, s2.b].iter().all(|&p| line_distance(s1, p) <= tol)
+        && [s1.a, s1.b].iter().all(|&p| line_distance(s2, p) <= tol);
+    if collinear {
+        let len = s1.a.distance(s1.b);
+        let dir = (s1.b - s1.a) / len;
+        let (ta, tb) = (dir.dot(s2.a - s1.a), dir.dot(s2.b - s1.a));
+        let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(len));
+        // Relative interiors shrunk by tol on both edges.
+        let (lo_in, hi_in) = (ta.min(tb).max(0.0) + tol, ta.max(tb).min(len) - tol);
+        return (hi_in > lo_in).then(|| TouchSet::Segments(vec![Segment::new(s1.a + dir * lo, s1.a + dir * hi)]));
+    }
+    let (d, s, t) = segment_segment(s1, s2);
+    let (p, q) = (s1.at(s), s2.at(t));
+    (d <= tol && point_in_segment(s1, p, tol) && point_in_segment(s2, q, tol)).then(|| TouchSet::Point((p + q) * 0.5))
+}
+
+/// An edge lying in a face's plane: the parts of it inside the face's relative
+/// interior.
+fn edge_face(s: &Segment, region: &PlanarRegion<'_>, tol: f64) -> Option<TouchSet> {
+    if region.signed_distance(s.a).abs() > tol || region.signed_distance(s.b).abs() > tol {
+        return None;
+    }
+    let length = s.a.distance(s.b);
+    // Break the edge where it meets the face's boundary; classify each piece by its
+    // midpoint.
+    let mut cuts = vec![0.0, 1.0];
+    for g in region.boundary_segments() {
+        let (d, t, _) = segment_segment(s, &g);
+        if d <= tol {
+            cuts.push(t);
+        }
+        for p in [g.a, g.b] {
+            let (d, t) = point_segment(p, s);
+            if d <= tol {
+                cuts.push(t);
+            }
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let mut inside: Vec<Segment> = Vec::new();
+    for w in cuts.windows(2) {
+        let (t0, t1) = (w[0], w[1]);
+        if (t1 - t0) * length <= tol {
+            continue;
+        }
+        if point_in_face(region, s.at(0.5 * (t0 + t1)), tol) {
+            match inside.last_mut() {
+                Some(last) if last.b.distance(s.at(t0)) <= tol => last.b = s.at(t1),
+                _ => inside.push(Segment::new(s.at(t0), s.at(t1))),
+            }
+        }
+    }
+    // The edge's own end points are not part of its relative interior.
+    inside.retain(|seg| seg.a.distance(seg.b) > 2.0 * tol);
+    (!inside.is_empty()).then_some(TouchSet::Segments(inside))
+}
+
+/// Two coplanar faces facing each other: their overlap, as convex pieces (pairs of
+/// triangles clipped against each other), kept where wider than `tol`.
+fn face_face(f: &PlanarRegion<'_>, g: &PlanarRegion<'_>, tol: f64) -> Option<TouchSet> {
+    if f.normal.dot(g.normal) >= 0.0 {
+        return None;
+    }
+    let g_in_f = g.loops[0].iter().all(|&p| f.signed_distance(p).abs() <= tol);
+    let f_in_g = f.loops[0].iter().all(|&p| g.signed_distance(p).abs() <= tol);
+    if !(g_in_f || f_in_g) {
+        return None;
+    }
+    let normal = f.normal;
+    let mut pieces = Vec::new();
+    for tf in f.triangles {
+        for tg in g.triangles {
+            // g's triangles run clockwise around f's normal: reverse them.
+            let mut poly: Vec<DVec3> = tf.to_vec();
+            let clip = [tg[0], tg[2], tg[1]].map(|p| f.project(p));
+            for i in 0..3 {
+                let (u, v) = (clip[i], clip[(i + 1) % 3]);
+                let outward = (v - u).cross(normal).normalize_or_zero();
+                poly = clip_convex(&poly, outward, outward.dot(u));
+                if poly.len() < 3 {
+                    break;
+                }
+            }
+            if poly.len() >= 3 && inradius_bound(&poly, normal) > tol {
+                pieces.push(poly);
+            }
+        }
+    }
+    (!pieces.is_empty()).then_some(TouchSet::Region { normal, pieces })
+}
+
+/// The part of a convex polygon where `n · p <= d`.
+fn clip_convex(poly: &[DVec3], n: DVec3, d: f64) -> Vec<DVec3> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for (i, &p) in poly.iter().enumerate() {
+        let q = poly[(i + 1) % poly.len()];
+        let (sp, sq) = (n.dot(p) - d, n.dot(q) - d);
+        if sp <= 0.0 {
+            out.push(p);
+        }
+        if (sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0) {
+            out.push(p + (q - p) * (sp / (sp - sq)));
+        }
+    }
+    out
+}
+
+/// Twice the area over the perimeter: a lower bound of the polygon's inradius scale
+/// (a sliver of width w has about w / 2).
+fn inradius_bound(poly: &[DVec3], normal: DVec3) -> f64 {
+    let n = poly.len();
+    let area2: f64 = (1..n - 1)
+        .map(|i| (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]).dot(normal))
+        .sum();
+    let perimeter: f64 = (0..n).map(|i| poly[i].distance(poly[(i + 1) % n])).sum();
+    if perimeter > 0.0 { area2 / perimeter } else { 0.0 }
+}
+
+/// I(a, b) of element `a` of the fixed part and element `b` of the moving part, both
+/// placed in the fixed part's frame, or `None` when they do not touch.
+pub(crate) fn touch(
+    fixed: &PlacedPart<'_>,
+    a: ElementId,
+    moving: &PlacedPart<'_>,
+    b: ElementId,
+    tol: f64,
+) -> Option<TouchSet> {
+    use ElementId::{Edge, Face, Vertex};
+    match (a, b) {
+        (Vertex(va), Vertex(vb)) => {
+            let (p, q) = (fixed.vertex(va), moving.vertex(vb));
+            (p.distance(q) <= tol).then(|| TouchSet::Point((p + q) * 0.5))
+        }
+        (Vertex(va), Edge(eb)) => {
+            let p = fixed.vertex(va);
+            point_in_segment(&moving.segment(eb), p, tol).then_some(TouchSet::Point(p))
+        }
+        (Edge(ea), Vertex(vb)) => {
+            let p = moving.vertex(vb);
+            point_in_segment(&fixed.segment(ea), p, tol).then_some(TouchSet::Point(p))
+        }
+        (Vertex(va), Face(fb)) => {
+            let p = fixed.vertex(va);
+            point_in_face(&moving.region(fb), p, tol).then_some(TouchSet::Point(p))
+        }
+        (Face(fa), Vertex(vb)) => {
+            let p = moving.vertex(vb);
+            point_in_face(&fixed.region(fa), p, tol).then_some(TouchSet::Point(p))
+        }
+        (Edge(ea), Edge(eb)) => edge_edge(&fixed.segment(ea), &moving.segment(eb), tol),
+        (Edge(ea), Face(fb)) => edge_face(&fixed.segment(ea), &moving.region(fb), tol),
+        (Face(fa), Edge(eb)) => edge_face(&moving.segment(eb), &fixed.region(fa), tol),
+        (Face(fa), Face(fb)) => face_face(&fixed.region(fa), &moving.region(fb), tol),
+    }
+}
+
+/// The elements whose closure holds `e`, `e` itself included.
+pub(crate) fn closure_holders(part: &Part, e: ElementId) -> Vec<ElementId> {
+    let mut out = vec![e];
+    match e {
+        ElementId::Vertex(v) => {
+            let vertex = part.vertex(v);
+            out.extend(vertex.edges.iter().map(|&x| ElementId::Edge(x)));
+            out.extend(vertex.faces.iter().map(|&x| ElementId::Face(x)));
+        }
+        ElementId::Edge(x) => out.extend(part.edge(x).faces.iter().map(|&f| ElementId::Face(f))),
+        ElementId::Face(_) => {}
+    }
+    out
+}
+
+/// The principal touches among `touches` (DOMAIN.md section 3): a touch (a, b) is
+/// implied, not principal, when a touch (a'', b'') with a ⊆ closure(a''),
+/// b ⊆ closure(b'') has a set whose closure contains I(a, b).
+pub(crate) fn principal(
+    fixed: &Part,
+    moving: &Part,
+    touches: &[(ElementId, ElementId, TouchSet)],
+    tol: f64,
+) -> Vec<(ElementId, ElementId)> {
+    let index: std::collections::HashMap<(ElementId, ElementId), usize> =
+        touches.iter().enumerate().map(|(i, (a, b, _))| ((*a, *b), i)).collect();
+    touches
+        .iter()
+        .filter(|(a, b, set)| {
+            let holders_a = closure_holders(fixed, *a);
+            let holders_b = closure_holders(moving, *b);
+            !holders_a.iter().any(|&a2| {
+                holders_b.iter().any(|&b2| {
+                    (a2, b2) != (*a, *b)
+                        && index.get(&(a2, b2)).is_some_and(|&i| {
+                            let superior = &touches[i].2;
+                            superior.dimension() > set.dimension() && superior.closure_contains(set, tol)
+                        })
+                })
+            })
+        })
+        .map(|(a, b, _)| (*a, *b))
+        .collect()
+}
+
+/// The distance between two placed elements.
+pub(crate) fn distance(fixed: &PlacedPart<'_>, a: ElementId, moving: &PlacedPart<'_>, b: ElementId) -> f64 {
+    use super::queries::{point_region, region_region, segment_region};
+    use ElementId::{Edge, Face, Vertex};
+    match (a, b) {
+        (Vertex(va), Vertex(vb)) => fixed.vertex(va).distance(moving.vertex(vb)),
+        (Vertex(va), Edge(eb)) => point_segment(fixed.vertex(va), &moving.segment(eb)).0,
+        (Edge(ea), Vertex(vb)) => point_segment(moving.vertex(vb), &fixed.segment(ea)).0,
+        (Vertex(va), Face(fb)) => point_region(fixed.vertex(va), &moving.region(fb)).0,
+        (Face(fa), Vertex(vb)) => point_region(moving.vertex(vb), &fixed.region(fa)).0,
+        (Edge(ea), Edge(eb)) => segment_segment(&fixed.segment(ea), &moving.segment(eb)).0,
+        (Edge(ea), Face(fb)) => segment_region(&fixed.segment(ea), &moving.region(fb)),
+        (Face(fa), Edge(eb)) => segment_region(&moving.segment(eb), &fixed.region(fa)),
+        (Face(fa), Face(fb)) => region_region(&fixed.region(fa), &moving.region(fb)),
+    }
+}
