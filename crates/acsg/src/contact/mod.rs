@@ -159,7 +159,8 @@ fn kind_of(a: ElementId, b: ElementId, along_segment: bool) -> ContactKind {
 pub struct ContactReport {
     /// P(X): the principal contacts, sorted by (fixed, moving) element.
     pub contacts: Vec<PrincipalContact>,
-    /// How deep the parts penetrate (0 when touching or apart).
+    /// How deep the parts penetrate: 0 when they touch (overlap up to the tolerance) or
+    /// are apart.
     pub penetration: f64,
     /// The smallest distance between two elements that do not touch, if below
     /// [`GAP_SEARCH_REL`]` · L`; `None` when every such pair is at least that far apart.
