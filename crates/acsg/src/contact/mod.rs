@@ -241,9 +241,11 @@ impl<'a> ContactScene<'a> {
             .collect();
         contacts.sort();
         let depth = penetration::penetration(self.fixed.part, self.moving, moving_to_fixed).depth;
+        // Within the contact tolerance, overlap is touching (rounding of the placement).
+        let penetration = if depth > tol { depth } else { 0.0 };
         ContactReport {
             contacts,
-            penetration: depth.max(0.0),
+            penetration,
             min_gap,
             tolerance: tol,
         }
