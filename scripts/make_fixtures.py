@@ -8,7 +8,12 @@ All good models are closed, consistently oriented solids whose polygons wind
 counter-clockwise seen from outside (outward normals by the right-hand rule).
 Coordinates are integers or exact binary fractions, kept as `Fraction` while
 computing and written with integer / shortest round-trip float formatting, so
-every text file is exact.
+every text file is exact.  The exception are the 32-sided round parts
+(`round_peg`, `block_with_round_hole`): their coordinates are irrational, so
+each is computed to 60 significant digits with `decimal` (no libm, hence the
+same on every platform) and rounded once to the nearest double; from there on
+they are exact `Fraction`s of those doubles.  Their self-checks use tolerances
+relative to the part size (see REL_TOL).
 
 After writing, the script re-reads every file it wrote and checks it
 independently (signed volume by the divergence theorem against the analytic
@@ -23,6 +28,7 @@ from __future__ import annotations
 import math
 import struct
 import sys
+from decimal import Decimal, localcontext
 from fractions import Fraction
 from pathlib import Path
 
@@ -90,6 +96,101 @@ def newell(pts):
 
 def is_zero(v):
     return v[0] == 0 and v[1] == 0 and v[2] == 0
+
+
+# --------------------------------------------------------------------------
+# regular polygons (decimal arithmetic, 60 digits, one rounding to double)
+# --------------------------------------------------------------------------
+
+DPREC = 60
+
+
+def d_pi():
+    """pi to the context precision (recipe from the `decimal` docs)."""
+    with localcontext() as ctx:
+        ctx.prec += 2
+        lasts, t, s, n, na, d, da = 0, Decimal(3), 3, 1, 0, 0, 24
+        while s != lasts:
+            lasts = s
+            n, na = n + na, na + 8
+            d, da = d + da, da + 32
+            t = (t * n) / d
+            s += t
+    return +s
+
+
+def d_cos(x):
+    with localcontext() as ctx:
+        ctx.prec += 2
+        i, lasts, s, fact, num, sign = 0, 0, Decimal(1), 1, Decimal(1), 1
+        while s != lasts:
+            lasts = s
+            i += 2
+            fact *= i * (i - 1)
+            num *= x * x
+            sign *= -1
+            s += num / fact * sign
+    return +s
+
+
+def d_sin(x):
+    with localcontext() as ctx:
+        ctx.prec += 2
+        i, lasts, s, fact, num, sign = 1, 0, x, 1, x, 1
+        while s != lasts:
+            lasts = s
+            i += 2
+            fact *= i * (i - 1)
+            num *= x * x
+            sign *= -1
+            s += num / fact * sign
+    return +s
+
+
+def d_to_double(x):
+    """Nearest double of a Decimal, as an exact Fraction."""
+    return F(float(x))  # float(Decimal) goes through str: correctly rounded
+
+
+def ngon_xy(cx, cy, R, n):
+    """Vertices of the regular n-gon with circumradius R (a Decimal) centred at
+    (cx, cy), vertex k at angle 2*pi*k/n (CCW seen from +z), each coordinate
+    rounded once to the nearest double."""
+    with localcontext() as ctx:
+        ctx.prec = DPREC
+        two_pi = 2 * d_pi()
+        out = []
+        for k in range(n):
+            a = two_pi * k / n
+            out.append((d_to_double(cx + R * d_cos(a)), d_to_double(cy + R * d_sin(a))))
+    return out
+
+
+def ngon_area(R, n):
+    """Area n/2 R^2 sin(2 pi/n) of the regular n-gon, as a Decimal."""
+    with localcontext() as ctx:
+        ctx.prec = DPREC
+        return Decimal(n) / 2 * R * R * d_sin(2 * d_pi() / n)
+
+
+def frustum_volume(h, a1, a2):
+    """h/3 (A1 + A2 + sqrt(A1 A2)) for similar parallel end faces."""
+    with localcontext() as ctx:
+        ctx.prec = DPREC
+        return Decimal(h) / 3 * (a1 + a2 + (a1 * a2).sqrt())
+
+
+N_ROUND = 32
+
+
+def d_round_radii():
+    """(hole circumradius 15, top-of-chamfer circumradius) as Decimals: the
+    chamfer moves every side face of the hole out by 3 (measured perpendicular
+    to the side) over a height of 3, i.e. 45 deg; the top 32-gon has apothem
+    15 cos(pi/32) + 3, so circumradius 15 + 3 / cos(pi/32)."""
+    with localcontext() as ctx:
+        ctx.prec = DPREC
+        return Decimal(15), Decimal(15) + 3 / d_cos(d_pi() / N_ROUND)
 
 
 # --------------------------------------------------------------------------
@@ -169,6 +270,81 @@ def block_with_hole_mesh():
     return Mesh("block_with_hole", verts, polys)
 
 
+def holed_block_mesh(name, rings, corner_idx):
+    """Block x,y in [0,100] with a prismatic/chamfered through-hole along z.
+
+    rings: [(z, [(x, y), ...]), ...] hole cross-sections from the bottom (z=0)
+    to the top face (z = top of the block), all with the same number n of
+    vertices, CCW seen from +z, index k of one ring joined to index k of the
+    next by a straight edge.  Consecutive rings are joined by quads (hole
+    walls, chamfer faces) whose normals point into the hole.
+    corner_idx: for the outer corners (0,0), (100,0), (100,100), (0,100), the
+    hole vertex each is joined to; the holed bottom and top faces are split
+    along these 4 joins into 4 pieces (no new vertices, no T-junctions): a
+    trapezoid per side for a square hole, an 11-gon for a 32-gon hole.
+    """
+    outer = [(0, 0), (100, 0), (100, 100), (0, 100)]
+    z_top = rings[-1][0]
+    n = len(rings[0][1])
+    verts = [(x, y, 0) for x, y in outer] + [(x, y, z_top) for x, y in outer]
+    for z, ring in rings:
+        assert len(ring) == n
+        verts += [(x, y, z) for x, y in ring]
+
+    def o(i, top):
+        return i % 4 + (4 if top else 0)
+
+    def h(r, k):
+        return 8 + r * n + k % n
+
+    m = list(corner_idx) + [corner_idx[0] + n]
+    assert all(m[i] < m[i + 1] for i in range(4)) and m[4] - m[0] == n
+    last = len(rings) - 1
+    polys = []
+    for i in range(4):
+        # top piece (normal +z): outer i -> outer i+1 -> hole m[i+1] down to m[i]
+        polys.append([o(i, 1), o(i + 1, 1)] + [h(last, k) for k in range(m[i + 1], m[i] - 1, -1)])
+    for i in range(4):
+        # bottom piece (normal -z): reversed
+        polys.append([h(0, k) for k in range(m[i], m[i + 1] + 1)] + [o(i + 1, 0), o(i, 0)])
+    for i in range(4):
+        # outer walls, outward
+        polys.append([o(i, 0), o(i + 1, 0), o(i + 1, 1), o(i, 1)])
+    for r in range(last):
+        for k in range(n):
+            # hole walls / chamfer faces, normals point into the hole
+            polys.append([h(r, k + 1), h(r, k), h(r + 1, k), h(r + 1, k + 1)])
+    return Mesh(name, verts, polys)
+
+
+def block_with_chamfered_hole_mesh():
+    sq = lambda a, b: [(a, a), (b, a), (b, b), (a, b)]
+    rings = [(0, sq(35, 65)), (45, sq(35, 65)), (50, sq(30, 70))]
+    return holed_block_mesh("block_with_chamfered_hole", rings, [0, 1, 2, 3])
+
+
+def round_peg_mesh():
+    ring = ngon_xy(50, 50, Decimal(14), N_ROUND)
+    n = len(ring)
+    verts = [(x, y, 10) for x, y in ring] + [(x, y, 90) for x, y in ring]
+    polys = [list(range(n - 1, -1, -1)),                 # bottom z=10, normal -z
+             list(range(n, 2 * n))]                      # top z=90, normal +z
+    for k in range(n):
+        j = (k + 1) % n
+        polys.append([k, j, n + j, n + k])               # sides, outward
+    return Mesh("round_peg", verts, polys)
+
+
+def block_with_round_hole_mesh():
+    r15, r_top = d_round_radii()
+    hole = ngon_xy(50, 50, r15, N_ROUND)
+    top = ngon_xy(50, 50, r_top, N_ROUND)
+    rings = [(0, hole), (47, hole), (50, top)]
+    # corners (0,0), (100,0), (100,100), (0,100) lie at 225, 315, 45, 135 deg
+    q = N_ROUND // 8
+    return holed_block_mesh("block_with_round_hole", rings, [5 * q, 7 * q, 9 * q, 11 * q])
+
+
 # --------------------------------------------------------------------------
 # triangulation and refinement
 # --------------------------------------------------------------------------
@@ -223,8 +399,11 @@ def triangulate(mesh):
     return list(mesh.verts), tris
 
 
-def subdivide(verts, tris):
-    """One round of 1-to-4 midpoint subdivision with shared midpoints."""
+def subdivide(verts, tris, round_mid=False):
+    """One round of 1-to-4 midpoint subdivision with shared midpoints.
+    round_mid: round each midpoint coordinate to the nearest double (needed
+    when the endpoints are arbitrary doubles: their exact midpoint may need
+    one more bit than a double has)."""
     verts = list(verts)
     mids = {}
 
@@ -232,7 +411,10 @@ def subdivide(verts, tris):
         key = (min(a, b), max(a, b))
         if key not in mids:
             pa, pb = verts[a], verts[b]
-            verts.append(tuple((pa[k] + pb[k]) / 2 for k in range(3)))
+            m = tuple((pa[k] + pb[k]) / 2 for k in range(3))
+            if round_mid:
+                m = tuple(F(float(c)) for c in m)
+            verts.append(m)
             mids[key] = len(verts) - 1
         return mids[key]
 
@@ -523,19 +705,31 @@ def shells(nv, polys):
     return len({find(i) for i in used})
 
 
-def planar(verts, poly):
+def planar(verts, poly, tol=0):
+    """Exactly planar (tol == 0), or every vertex within distance tol of the
+    plane through the first vertex with the polygon's Newell normal."""
     pts = [verts[i] for i in poly]
     n = newell(pts)
-    return all(dot(n, sub(q, pts[0])) == 0 for q in pts)
+    if tol == 0:
+        return all(dot(n, sub(q, pts[0])) == 0 for q in pts)
+    t2 = F(tol) ** 2 * dot(n, n)
+    return all(dot(n, sub(q, pts[0])) ** 2 <= t2 for q in pts)
 
 
-def brep_counts(verts, tris):
+def extent(verts):
+    """Part size: the largest side of the axis-aligned bounding box."""
+    return max(max(v[k] for v in verts) - min(v[k] for v in verts) for k in range(3))
+
+
+def brep_counts(verts, tris, tol=0):
     """Recover B-rep counts from a (refined) triangle mesh: group coplanar
     edge-adjacent triangles into faces, find feature edges between different
     faces, B-rep vertices = mesh vertices touching >= 3 faces, B-rep edges =
     chains of feature mesh edges between B-rep vertices, convexity from the
     dihedral sign.  Returns (faces, faces_with_holes, vertices, convex_vertices,
-    edges, convex_edges, concave_edges)."""
+    edges, convex_edges, concave_edges).  tol > 0: two edge-adjacent triangles
+    are coplanar when the far vertex of one is within distance tol of the
+    other's plane (and the normals agree), instead of exactly."""
     nt = len(tris)
     normals = [cross(sub(verts[b], verts[a]), sub(verts[c], verts[a])) for a, b, c in tris]
     edge_tris = {}
@@ -550,13 +744,18 @@ def brep_counts(verts, tris):
             x = parent[x]
         return x
 
-    def coplanar(t1, t2):
-        return is_zero(cross(normals[t1], normals[t2])) and dot(normals[t1], normals[t2]) > 0
+    def coplanar(t1, t2, u, w):
+        if tol == 0:
+            return is_zero(cross(normals[t1], normals[t2])) and dot(normals[t1], normals[t2]) > 0
+        n1 = normals[t1]
+        d = dot(n1, sub(verts[w], verts[u]))
+        return dot(n1, normals[t2]) > 0 and d * d <= F(tol) ** 2 * dot(n1, n1)
 
     for key, lst in edge_tris.items():
         assert len(lst) == 2, "mesh not 2-manifold"
-        (t1, _, _), (t2, _, _) = lst
-        if coplanar(t1, t2):
+        (t1, u, _), (t2, _, _) = lst
+        w = [x for x in tris[t2] if x not in key][0]
+        if coplanar(t1, t2, u, w):
             parent[find(t1)] = find(t2)
     face_of = [find(t) for t in range(nt)]
     faces = sorted(set(face_of))
@@ -861,13 +1060,20 @@ def readme_text():
 # self-check
 # --------------------------------------------------------------------------
 
-def check_closed_solid(label, verts, polys, volume):
+def check_closed_solid(label, verts, polys, volume, rel=0):
+    """rel == 0: exact volume and planarity; rel > 0: volume within rel of
+    the analytic value (relative), planarity within rel * part size."""
     ok, probs = edge_report(polys)
     check(ok, f"{label}: edge pairing problems {probs[:3]}")
     vol = signed_volume(verts, polys)
-    check(vol == volume, f"{label}: signed volume {vol} != {volume}")
+    if rel == 0:
+        check(vol == volume, f"{label}: signed volume {vol} != {volume}")
+    else:
+        check(abs(vol - volume) <= F(rel) * abs(volume),
+              f"{label}: signed volume {float(vol)!r} != {float(volume)!r} (rel {rel})")
     check(shells(len(verts), polys) == 1, f"{label}: not one shell")
-    check(all(planar(verts, p) for p in polys), f"{label}: non-planar polygon")
+    tol = F(rel) * extent(verts)
+    check(all(planar(verts, p, tol) for p in polys), f"{label}: non-planar polygon")
     used = {i for p in polys for i in p}
     check(len(used) == len(verts), f"{label}: unused vertices")
     for p in polys:

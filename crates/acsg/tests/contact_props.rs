@@ -1,0 +1,169 @@
+//! Translation only, random convex polytopes: the contact state at a point strictly
+//! inside a facet of the Minkowski difference A ⊕ (−B) is that facet's single PC, with
+//! no penetration; just inside the difference the parts penetrate, just outside they
+//! neither touch nor penetrate. The difference is built here by a brute-force convex
+//! hull that shares nothing with the library.
+
+use acsg::contact::{ContactKind, ContactScene, PrincipalContact};
+use acsg::io::MeshSoup;
+use acsg::model::{EdgeId, ElementId, FaceId, Part, VertexId};
+use acsg::tolerance::CONTACT_REL;
+use glam::{DAffine3, DVec3};
+use proptest::prelude::*;
+
+/// Hull facets of a point set in general position, as (outward unit normal, offset,
+/// indices of the points on the facet plane).
+fn hull_facets(points: &[DVec3], eps: f64) -> Vec<(DVec3, f64, Vec<usize>)> {
+    let mut facets: Vec<(DVec3, f64, Vec<usize>)> = Vec::new();
+    let n = points.len();
+    for i in 0..n {
+        for j in i + 1..n {
+            for k in j + 1..n {
+                let normal = (points[j] - points[i]).cross(points[k] - points[i]);
+                if normal.length() < 1e-9 {
+                    continue;
+                }
+                let normal = normal.normalize();
+                let side: Vec<f64> = points.iter().map(|p| normal.dot(*p - points[i])).collect();
+                let outward = if side.iter().all(|&s| s <= eps) {
+                    normal
+                } else if side.iter().all(|&s| s >= -eps) {
+                    -normal
+                } else {
+                    continue;
+                };
+                let offset = outward.dot(points[i]);
+                if facets
+                    .iter()
+                    .any(|(m, d, _)| m.distance(outward) < 1e-9 && (d - offset).abs() < eps)
+                {
+                    continue;
+                }
+                let on: Vec<usize> = (0..n)
+                    .filter(|&q| (outward.dot(points[q]) - offset).abs() <= eps)
+                    .collect();
+                facets.push((outward, offset, on));
+            }
+        }
+    }
+    facets
+}
+
+/// A convex part from the hull of points in general position (triangular facets).
+fn convex_part(points: &[DVec3], name: &str) -> Option<Part> {
+    let facets = hull_facets(points, 1e-9);
+    let mut polygons = Vec::new();
+    for (normal, _, on) in &facets {
+        if on.len() != 3 {
+            return None; // not in general position
+        }
+        let (a, b, c) = (on[0], on[1], on[2]);
+        let ccw = (points[b] - points[a]).cross(points[c] - points[a]).dot(*normal) > 0.0;
+        polygons.push(if ccw {
+            vec![a as u32, b as u32, c as u32]
+        } else {
+            vec![a as u32, c as u32, b as u32]
+        });
+    }
+    let soup = MeshSoup {
+        positions: points.to_vec(),
+        polygons,
+        polygon_lines: vec![],
+        polygon_noun: "face",
+    };
+    Part::try_new(&soup, name).ok()
+}
+
+fn random_points(seed: u64, count: usize, radius: f64) -> Vec<DVec3> {
+    let mut state = seed | 1;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..count)
+        .map(|_| {
+            let (u, v, r) = (
+                next() * std::f64::consts::TAU,
+                next() * 2.0 - 1.0,
+                radius * (0.6 + 0.4 * next()),
+            );
+            let s = (1.0 - v * v).sqrt();
+            DVec3::new(r * s * u.cos(), r * s * u.sin(), r * v)
+        })
+        .collect()
+}
+
+/// The element of a convex part spanned by the given points: a vertex, an edge or a face.
+fn element_spanned(part: &Part, pts: &[DVec3], normal: DVec3) -> Option<ElementId> {
+    let close = |p: DVec3, q: DVec3| p.distance(q) < 1e-9;
+    match pts {
+        [p] => part
+            .vertices()
+            .iter()
+            .position(|v| close(v.position, *p))
+            .map(|i| ElementId::Vertex(VertexId(i as u32))),
+        [p, q] => part
+            .edges()
+            .iter()
+            .position(|e| {
+                let [a, b] = e.vertices.map(|v| part.vertex(v).position);
+                (close(a, *p) && close(b, *q)) || (close(a, *q) && close(b, *p))
+            })
+            .map(|i| ElementId::Edge(EdgeId(i as u32))),
+        _ => part
+            .faces()
+            .iter()
+            .position(|f| f.normal.distance(normal) < 1e-6)
+            .map(|i| ElementId::Face(FaceId(i as u32))),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn facets_of_the_minkowski_difference_are_the_single_pc_states(seed_a in any::<u64>(), seed_b in any::<u64>()) {
+        let (pa, pb) = (random_points(seed_a, 7, 10.0), random_points(seed_b, 6, 6.0));
+        let (Some(a), Some(b)) = (convex_part(&pa, "A"), convex_part(&pb, "B")) else {
+            prop_assume!(false);
+            unreachable!()
+        };
+        let va: Vec<DVec3> = a.vertices().iter().map(|v| v.position).collect();
+        let vb: Vec<DVec3> = b.vertices().iter().map(|v| v.position).collect();
+        let diff: Vec<DVec3> = va.iter().flat_map(|&p| vb.iter().map(move |&q| p - q)).collect();
+        let scene = ContactScene::new(&a, &b);
+        let scale = scene.scale();
+        let mut checked = 0;
+        for (normal, offset, on) in hull_facets(&diff, 1e-9 * scale) {
+            // Support sets: A's points maximal along the normal, B's minimal.
+            let max_a = va.iter().map(|p| normal.dot(*p)).fold(f64::NEG_INFINITY, f64::max);
+            let min_b = vb.iter().map(|p| normal.dot(*p)).fold(f64::INFINITY, f64::min);
+            let sa: Vec<DVec3> = va.iter().copied().filter(|p| normal.dot(*p) > max_a - 1e-9 * scale).collect();
+            let sb: Vec<DVec3> = vb.iter().copied().filter(|p| normal.dot(*p) < min_b + 1e-9 * scale).collect();
+            let kind = match (sa.len(), sb.len()) {
+                (3, 1) => ContactKind::FaceVertex,
+                (1, 3) => ContactKind::VertexFace,
+                (2, 2) => ContactKind::EdgeEdge,
+                _ => continue, // not in general position: skip this facet
+            };
+            let (Some(ea), Some(eb)) = (element_spanned(&a, &sa, normal), element_spanned(&b, &sb, -normal)) else {
+                continue;
+            };
+            let centre = on.iter().map(|&i| diff[i]).sum::<DVec3>() / on.len() as f64;
+            prop_assert!((normal.dot(centre) - offset).abs() < 1e-9 * scale);
+            let at = |t: DVec3| scene.evaluate(&DAffine3::from_translation(t), CONTACT_REL);
+            let report = at(centre);
+            prop_assert_eq!(&report.contacts, &vec![PrincipalContact { fixed: ea, moving: eb, kind }]);
+            prop_assert_eq!(report.penetration, 0.0);
+            let step = 1e-3 * scale;
+            let inside = at(centre - normal * step);
+            prop_assert!(inside.penetration > 0.5 * step, "inside: {:?}", inside);
+            let outside = at(centre + normal * step);
+            prop_assert!(outside.contacts.is_empty() && outside.penetration == 0.0, "outside: {:?}", outside);
+            checked += 1;
+        }
+        prop_assert!(checked >= 4, "only {} facets checked", checked);
+    }
+}
