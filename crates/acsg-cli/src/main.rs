@@ -6,9 +6,12 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use acsg::model::{Inspection, Part};
+use acsg::contact::{ContactRecord, ContactReport, ContactScene};
+use acsg::model::{ElementId, Inspection, Part, PartElements};
+use acsg::pose::Pose;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
+use glam::{DAffine3, DVec3};
 
 /// Assembly Contact State Graphs of two polyhedral parts.
 #[derive(Parser)]
@@ -31,6 +34,30 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The contact state P(X) at one pose of the moving part: principal contacts,
+    /// penetration depth and the smallest gap between elements that do not touch.
+    Contacts {
+        /// The fixed part A.
+        fixed: PathBuf,
+        /// The moving part B.
+        moving: PathBuf,
+        /// The pose X = x,y,z,rx,ry,rz: p_A = G (R p_B + t), R = Rz(rz) Ry(ry) Rx(rx);
+        /// angles in radians unless --degrees.
+        #[arg(long, allow_hyphen_values = true)]
+        pose: String,
+        /// The assembled pose G of B in A's frame, in the same form (default: identity).
+        #[arg(long, allow_hyphen_values = true)]
+        assembled: Option<String>,
+        /// Read the angles of --pose and --assembled in degrees.
+        #[arg(long)]
+        degrees: bool,
+        /// Contact tolerance relative to L, the larger bounding-box diagonal.
+        #[arg(long, default_value_t = acsg::tolerance::CONTACT_REL, allow_hyphen_values = true)]
+        tol: f64,
+        /// Print one JSON object instead of text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Run on the built-in example (the paper's L-block and box): no files needed.
     Demo {
         /// Print one JSON object instead of text.
@@ -39,16 +66,29 @@ enum Command {
     },
 }
 
+/// A bad argument value found after parsing (exit code 2, like clap's own errors).
+#[derive(Debug)]
+struct UsageError(String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(err) if err.downcast_ref::<UsageError>().is_some() => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(2)
+        }
         Err(err) => {
             // A closed pipe (`acsg ... | head`) is not an error worth a message.
-            if err
-                .downcast_ref::<std::io::Error>()
-                .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
-            {
+            if is_broken_pipe(&err) {
                 return ExitCode::SUCCESS;
             }
             eprintln!("error: {err:#}");
@@ -57,12 +97,54 @@ fn main() -> ExitCode {
     }
 }
 
+fn is_broken_pipe(err: &anyhow::Error) -> bool {
+    err.chain().any(|cause| {
+        let io_kind = cause
+            .downcast_ref::<std::io::Error>()
+            .map(std::io::Error::kind)
+            .or_else(|| {
+                cause
+                    .downcast_ref::<serde_json::Error>()
+                    .and_then(serde_json::Error::io_error_kind)
+            });
+        io_kind == Some(std::io::ErrorKind::BrokenPipe)
+    })
+}
+
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Inspect { fixed, moving, json } => {
             let fixed = Part::from_path(&fixed)?;
             let moving = moving.map(|m| Part::from_path(&m)).transpose()?;
             print_inspection(&Inspection::of(&fixed, moving.as_ref()), json)
+        }
+        Command::Contacts {
+            fixed,
+            moving,
+            pose,
+            assembled,
+            degrees,
+            tol,
+            json,
+        } => {
+            let usage = |what: &str, e: &dyn std::fmt::Display| UsageError(format!("invalid {what}: {e}"));
+            let pose = Pose::parse(&pose, degrees).map_err(|e| usage("--pose", &e))?;
+            let assembled = match assembled {
+                Some(text) => Pose::parse(&text, degrees).map_err(|e| usage("--assembled", &e))?,
+                None => Pose::IDENTITY,
+            };
+            if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
+                return Err(UsageError(format!(
+                    "invalid --tol: {tol} (give a relative tolerance between 0 and 1, e.g. 1e-9)"
+                ))
+                .into());
+            }
+            let fixed = Part::from_path(&fixed)?;
+            let moving = Part::from_path(&moving)?;
+            let g = assembled.to_affine(&DAffine3::IDENTITY);
+            let placement = pose.to_affine(&g);
+            let report = ContactScene::new(&fixed, &moving).evaluate(&placement, tol);
+            print_contacts(&fixed, &moving, &pose, &g, &report, tol, json)
         }
         Command::Demo { json } => {
             let (fixed, moving) = acsg::examples::l_block_and_box();
@@ -119,4 +201,126 @@ fn print_inspection(report: &Inspection, json: bool) -> anyhow::Result<()> {
         )?;
     }
     Ok(())
+}
+
+/// The JSON document of `acsg contacts`.
+#[derive(serde::Serialize)]
+struct ContactsDocument<'a> {
+    convention: &'static str,
+    pose: [f64; 6],
+    matrix: [[f64; 4]; 4],
+    tolerance: f64,
+    contacts: Vec<ContactRecord>,
+    penetration: f64,
+    min_gap: Option<f64>,
+    parts: PartsDocument<'a>,
+}
+
+#[derive(serde::Serialize)]
+struct PartsDocument<'a> {
+    fixed: &'a PartElements,
+    moving: &'a PartElements,
+}
+
+fn print_contacts(
+    fixed: &Part,
+    moving: &Part,
+    pose: &Pose,
+    assembled: &DAffine3,
+    report: &ContactReport,
+    tol: f64,
+    json: bool,
+) -> anyhow::Result<()> {
+    let records: Vec<ContactRecord> = report
+        .contacts
+        .iter()
+        .map(|c| ContactRecord::of(c, fixed, moving))
+        .collect();
+    let mut out = std::io::stdout().lock();
+    if json {
+        let doc = ContactsDocument {
+            convention: acsg::pose::CONVENTION,
+            pose: pose.to_array(),
+            matrix: pose.matrix(assembled),
+            tolerance: tol,
+            contacts: records,
+            penetration: report.penetration,
+            min_gap: report.min_gap,
+            parts: PartsDocument {
+                fixed: &PartElements::of(fixed),
+                moving: &PartElements::of(moving),
+            },
+        };
+        serde_json::to_writer_pretty(&mut out, &doc).context("writing JSON")?;
+        writeln!(out)?;
+        return Ok(());
+    }
+    let placement = pose.to_affine(assembled);
+    let [x, y, z, rx, ry, rz] = pose.to_array();
+    writeln!(out, "pose         x={x} y={y} z={z} rx={rx} ry={ry} rz={rz} (radians)")?;
+    writeln!(
+        out,
+        "contacts     {} (coordinates in the fixed part's frame)",
+        records.len()
+    )?;
+    for r in &records {
+        let flag = if r.degenerate { ", degenerate" } else { "" };
+        writeln!(
+            out,
+            "  {:<5} {}  x  {}   ({} DOF{flag})",
+            r.kind.label(),
+            r.fixed,
+            r.moving,
+            r.dof
+        )?;
+        writeln!(out, "        fixed  {}", describe(fixed, r.fixed, &DAffine3::IDENTITY))?;
+        writeln!(out, "        moving {}", describe(moving, r.moving, &placement))?;
+    }
+    let verdict = if report.penetration > 0.0 {
+        "  (the parts penetrate)"
+    } else {
+        ""
+    };
+    writeln!(out, "penetration  {}{verdict}", report.penetration)?;
+    match report.min_gap {
+        Some(gap) => writeln!(out, "min gap      {gap}  (closest pair of elements that do not touch)")?,
+        None => writeln!(
+            out,
+            "min gap      >= {} (1% of L)",
+            acsg::tolerance::GAP_SEARCH_REL * fixed.bounds().diagonal().max(moving.bounds().diagonal())
+        )?,
+    }
+    Ok(())
+}
+
+/// An element's coordinates after `placement`.
+fn describe(part: &Part, element: ElementId, placement: &DAffine3) -> String {
+    let p = |v: DVec3| {
+        let q = placement.transform_point3(v);
+        format!("({}, {}, {})", q.x, q.y, q.z)
+    };
+    match element {
+        ElementId::Vertex(v) => format!("vertex at {}", p(part.vertex(v).position)),
+        ElementId::Edge(e) => {
+            let [a, b] = part.edge_points(e);
+            format!("edge {} - {}", p(a), p(b))
+        }
+        ElementId::Face(f) => {
+            let face = part.face(f);
+            let n = placement.transform_vector3(face.normal).normalize();
+            let corners: Vec<String> = face
+                .outer()
+                .vertices
+                .iter()
+                .map(|&v| p(part.vertex(v).position))
+                .collect();
+            format!(
+                "face, normal ({}, {}, {}), corners {}",
+                n.x,
+                n.y,
+                n.z,
+                corners.join(" ")
+            )
+        }
+    }
 }

@@ -200,3 +200,109 @@ fn bad_usage_exits_2() {
     acsg().arg("inspect").assert().code(2);
     acsg().arg("no-such-command").assert().code(2);
 }
+
+#[test]
+fn contacts_json_lists_the_two_face_contacts_of_the_assembled_pose() {
+    let out = acsg()
+        .args(["contacts", "--json", "--pose", "0,0,0,0,0,0"])
+        .arg(fixture("l_block.off"))
+        .arg(fixture("box.stl"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["penetration"], 0.0);
+    assert!(v["convention"].as_str().unwrap().contains("Rz(rz)*Ry(ry)*Rx(rx)"));
+    let contacts = v["contacts"].as_array().unwrap();
+    assert_eq!(contacts.len(), 2);
+    // Check each contact's faces through the geometry in the same document: the floor
+    // (normal +z) against the box bottom (-z), the wall (-x) against the box side (+x).
+    let normal = |part: &str, id: &serde_json::Value| {
+        let index: usize = id.as_str().unwrap().strip_prefix('f').unwrap().parse().unwrap();
+        v["parts"][part]["face_normals"][index]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c.as_f64().unwrap())
+            .collect::<Vec<_>>()
+    };
+    let mut pairs: Vec<(Vec<f64>, Vec<f64>)> = contacts
+        .iter()
+        .map(|c| {
+            assert_eq!(c["type"], "f-f");
+            assert_eq!(c["dof"], 3);
+            (normal("fixed", &c["fixed"]), normal("moving", &c["moving"]))
+        })
+        .collect();
+    pairs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(
+        pairs,
+        vec![
+            (vec![-1.0, 0.0, 0.0], vec![1.0, 0.0, 0.0]),
+            (vec![0.0, 0.0, 1.0], vec![0.0, 0.0, -1.0])
+        ]
+    );
+    // Elements with geometry: 12 vertices, 18 edges as index pairs, faces as loops.
+    assert_eq!(v["parts"]["fixed"]["vertices"].as_array().unwrap().len(), 12);
+    assert_eq!(v["parts"]["fixed"]["edges"][0].as_array().unwrap().len(), 2);
+    assert_eq!(v["parts"]["moving"]["faces"].as_array().unwrap().len(), 6);
+}
+
+#[test]
+fn contacts_text_reports_penetration_and_gap() {
+    // Pushed 1 into the wall, lifted 5 off the floor.
+    acsg()
+        .args(["contacts", "--pose", "1,0,5,0,0,0"])
+        .arg(fixture("l_block.off"))
+        .arg(fixture("box.off"))
+        .assert()
+        .success()
+        .stdout(contains("penetration  1").and(contains("the parts penetrate")));
+    // Degrees are accepted; 5 away from the wall, 2 off the floor: nearest gap 2.
+    acsg()
+        .args(["contacts", "--degrees", "--pose=-5,0,2,0,0,0"])
+        .arg(fixture("l_block.off"))
+        .arg(fixture("box.off"))
+        .assert()
+        .success()
+        .stdout(contains("contacts     0").and(contains("min gap      2 ")));
+}
+
+#[test]
+fn bad_poses_and_tolerances_are_usage_errors() {
+    let run = |args: &[&str]| {
+        acsg()
+            .arg("contacts")
+            .arg(fixture("cube.off"))
+            .arg(fixture("cube.off"))
+            .args(args)
+            .assert()
+    };
+    run(&["--pose", "0,0,nan,0,0,0"])
+        .code(2)
+        .stderr(contains("value 3 (z) is NaN"));
+    run(&["--pose", "0,0,0"])
+        .code(2)
+        .stderr(contains("expected 6 comma-separated values"));
+    run(&["--pose", "0,0,abc,0,0,0"]).code(2).stderr(contains("'abc'"));
+    run(&["--pose", "0,0,0,0,0,0", "--tol", "-1"])
+        .code(2)
+        .stderr(contains("--tol"));
+    run(&[]).code(2).stderr(contains("--pose"));
+}
+
+#[test]
+fn a_closed_pipe_is_not_an_error() {
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("acsg"))
+        .args(["contacts", "--json", "--pose", "0,0,0,0,0,0"])
+        .arg(fixture("l_block.off"))
+        .arg(fixture("box.off"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success());
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("Broken pipe"));
+}

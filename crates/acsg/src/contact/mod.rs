@@ -251,3 +251,33 @@ impl<'a> ContactScene<'a> {
         }
     }
 }
+
+/// One contact as written in JSON outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ContactRecord {
+    /// The kind: `f-v`, `e-e-t`, ...
+    #[serde(rename = "type")]
+    pub kind: ContactKind,
+    /// The fixed part's element: `f3`, `e5`, `v7`.
+    pub fixed: ElementId,
+    /// The moving part's element.
+    pub moving: ElementId,
+    /// Degrees of freedom this contact leaves.
+    pub dof: u8,
+    /// Whether it is degenerate.
+    pub degenerate: bool,
+}
+
+impl ContactRecord {
+    /// The record of a contact between two parts.
+    #[must_use]
+    pub fn of(contact: &PrincipalContact, fixed: &Part, moving: &Part) -> ContactRecord {
+        ContactRecord {
+            kind: contact.kind,
+            fixed: contact.fixed,
+            moving: contact.moving,
+            dof: contact.dof(),
+            degenerate: contact.degenerate(fixed, moving),
+        }
+    }
+}

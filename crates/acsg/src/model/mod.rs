@@ -1,5 +1,6 @@
 //! Part models: the validated boundary representation of one polyhedral solid.
 
+mod elements;
 mod ids;
 mod part;
 mod summary;
@@ -7,6 +8,7 @@ pub mod validation;
 
 use std::path::Path;
 
+pub use elements::PartElements;
 pub use ids::{EdgeId, ElementId, FaceId, VertexId};
 pub use part::{Aabb, Edge, Face, Loop, Part, Vertex};
 pub use summary::{Inspection, PartSummary, PpcTotals};
