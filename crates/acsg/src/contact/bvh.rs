@@ -51,6 +51,15 @@ impl Bounds3 {
         self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
     }
 
+    /// The distance between the boxes (0 when they overlap).
+    #[must_use]
+    pub fn gap(&self, other: &Bounds3) -> f64 {
+        (self.min - other.max)
+            .max(other.min - self.max)
+            .max(DVec3::ZERO)
+            .length()
+    }
+
     fn center(&self) -> DVec3 {
         (self.min + self.max) * 0.5
     }

@@ -176,6 +176,9 @@ pub struct ContactScene<'a> {
     fixed: PlacedPart<'a>,
     moving: &'a Part,
     fixed_elements: Vec<ElementId>,
+    fixed_boxes: Vec<Bounds3>,
+    fixed_pieces: penetration::PreparedPieces,
+    moving_pieces: penetration::PreparedPieces,
     bvh: Bvh,
     scale: f64,
 }
@@ -188,11 +191,15 @@ impl<'a> ContactScene<'a> {
         let fixed_elements = placed.elements();
         let boxes: Vec<Bounds3> = fixed_elements.iter().map(|&e| placed.bounds(e)).collect();
         let scale = fixed.bounds().diagonal().max(moving.bounds().diagonal());
+        let bvh = Bvh::new(&boxes);
         ContactScene {
             fixed: placed,
             moving,
             fixed_elements,
-            bvh: Bvh::new(&boxes),
+            fixed_boxes: boxes,
+            fixed_pieces: penetration::PreparedPieces::new(fixed),
+            moving_pieces: penetration::PreparedPieces::new(moving),
+            bvh,
             scale,
         }
     }
@@ -203,25 +210,46 @@ impl<'a> ContactScene<'a> {
         self.scale
     }
 
-    /// The contact state and penetration with the moving part placed by
+    /// The contact state, penetration and smallest gap with the moving part placed by
     /// `moving_to_fixed`; contacts hold within `relative_tolerance · L`.
     #[must_use]
     pub fn evaluate(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64) -> ContactReport {
+        self.run(moving_to_fixed, relative_tolerance, true)
+    }
+
+    /// [`ContactScene::evaluate`] without the search for the smallest gap (`min_gap` is
+    /// `None`): P(X) and penetration only, the cheaper query for tight loops.
+    #[must_use]
+    pub fn state(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64) -> ContactReport {
+        self.run(moving_to_fixed, relative_tolerance, false)
+    }
+
+    fn run(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64, with_gap: bool) -> ContactReport {
         let tol = scaled(relative_tolerance, self.scale);
-        let search = scaled(GAP_SEARCH_REL, self.scale).max(2.0 * tol);
+        let search = if with_gap {
+            scaled(GAP_SEARCH_REL, self.scale).max(2.0 * tol)
+        } else {
+            tol
+        };
         let moving = PlacedPart::new(self.moving, moving_to_fixed);
         let mut touches = Vec::new();
         let mut min_gap: Option<f64> = None;
         for b in moving.elements() {
-            let query = moving.bounds(b).inflated(search);
-            self.bvh.query(&query, |i| {
+            let bounds_b = moving.bounds(b);
+            self.bvh.query(&bounds_b.inflated(search), |i| {
                 let a = self.fixed_elements[i as usize];
-                if let Some(set) = touch::touch(&self.fixed, a, &moving, b, tol) {
-                    touches.push((a, b, set));
-                } else {
+                // The boxes' gap bounds the elements' distance from below.
+                let box_gap = self.fixed_boxes[i as usize].gap(&bounds_b);
+                if box_gap <= tol {
+                    if let Some(set) = touch::touch(&self.fixed, a, &moving, b, tol) {
+                        touches.push((a, b, set));
+                        return;
+                    }
+                }
+                if with_gap && box_gap < min_gap.unwrap_or(search) {
                     let d = touch::distance(&self.fixed, a, &moving, b);
-                    if d > tol && d < search {
-                        min_gap = Some(min_gap.map_or(d, |g| g.min(d)));
+                    if d > tol && d < min_gap.unwrap_or(search) {
+                        min_gap = Some(d);
                     }
                 }
             });
@@ -240,7 +268,9 @@ impl<'a> ContactScene<'a> {
             })
             .collect();
         contacts.sort();
-        let depth = penetration::penetration(self.fixed.part, self.moving, moving_to_fixed).depth;
+        let depth =
+            penetration::penetration_prepared(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed, self.scale)
+                .depth;
         // Within the contact tolerance, overlap is touching (rounding of the placement).
         let penetration = if depth > tol { depth } else { 0.0 };
         ContactReport {

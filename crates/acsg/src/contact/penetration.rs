@@ -65,6 +65,7 @@ pub struct PenetrationReport {
 }
 
 /// A convex polytope reduced to what SAT needs, in the frame of the comparison.
+#[derive(Debug)]
 struct Hull {
     vertices: Vec<DVec3>,
     /// Distinct face normal directions (unit; antiparallel normals kept once).
@@ -100,6 +101,24 @@ impl Hull {
             vertices,
             normals,
             edges,
+            min,
+            max,
+        }
+    }
+
+    /// This hull mapped by an invertible affine map (directions stay distinct, since an
+    /// invertible linear map keeps non-parallel directions non-parallel).
+    fn transformed(&self, t: &DAffine3) -> Hull {
+        let normal_matrix = t.matrix3.inverse().transpose();
+        let vertices: Vec<DVec3> = self.vertices.iter().map(|&p| t.transform_point3(p)).collect();
+        let (min, max) = vertices.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        Hull {
+            vertices,
+            normals: self.normals.iter().map(|&n| (normal_matrix * n).normalize()).collect(),
+            edges: self.edges.iter().map(|&e| t.transform_vector3(e).normalize()).collect(),
             min,
             max,
         }
@@ -202,6 +221,22 @@ pub fn convex_separation(a: &ConvexPolytope, b: &ConvexPolytope, b_to_a: &DAffin
     separate(&Hull::new(a, None), &Hull::new(b, Some(b_to_a)))
 }
 
+/// A part's convex pieces, prepared once for many penetration checks.
+#[derive(Debug)]
+pub struct PreparedPieces {
+    hulls: Vec<Hull>,
+}
+
+impl PreparedPieces {
+    /// Prepares a part's pieces in its own frame.
+    #[must_use]
+    pub fn new(part: &Part) -> PreparedPieces {
+        PreparedPieces {
+            hulls: part.convex_pieces().iter().map(|p| Hull::new(p, None)).collect(),
+        }
+    }
+}
+
 /// Penetration of the moving part, placed by `moving_to_fixed`, into the fixed part.
 ///
 /// Every pair of convex pieces whose bounding boxes (in the fixed frame) are within the
@@ -211,20 +246,31 @@ pub fn convex_separation(a: &ConvexPolytope, b: &ConvexPolytope, b_to_a: &DAffin
 /// solids. The moving part's pieces are transformed once per call.
 #[must_use]
 pub fn penetration(fixed: &Part, moving: &Part, moving_to_fixed: &DAffine3) -> PenetrationReport {
-    let a: Vec<Hull> = fixed.convex_pieces().iter().map(|p| Hull::new(p, None)).collect();
-    let b: Vec<Hull> = moving
-        .convex_pieces()
-        .iter()
-        .map(|p| Hull::new(p, Some(moving_to_fixed)))
-        .collect();
     let length = fixed.bounds().diagonal().max(moving.bounds().diagonal());
+    penetration_prepared(
+        &PreparedPieces::new(fixed),
+        &PreparedPieces::new(moving),
+        moving_to_fixed,
+        length,
+    )
+}
+
+/// [`penetration`] with both parts' pieces prepared; `length` is `L`.
+#[must_use]
+pub fn penetration_prepared(
+    fixed: &PreparedPieces,
+    moving: &PreparedPieces,
+    moving_to_fixed: &DAffine3,
+    length: f64,
+) -> PenetrationReport {
+    let b: Vec<Hull> = moving.hulls.iter().map(|h| h.transformed(moving_to_fixed)).collect();
     let margin = scaled(SEPARATION_REL, length);
     let mut report = PenetrationReport {
         depth: f64::NEG_INFINITY,
         pieces: None,
         certificates: Vec::new(),
     };
-    for (i, ha) in a.iter().enumerate() {
+    for (i, ha) in fixed.hulls.iter().enumerate() {
         for (j, hb) in b.iter().enumerate() {
             let gap = ha.box_gap(hb);
             let depth = if gap > margin {
