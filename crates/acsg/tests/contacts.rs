@@ -372,3 +372,27 @@ fn a_fixed_vertex_inside_a_moving_edge_is_a_degenerate_v_e() {
     assert!(want.degenerate(&spike, &cube));
     assert_clean(&report);
 }
+
+#[test]
+fn a_peg_corner_on_the_holes_chamfer_is_f_v() {
+    let (block, peg) = (load("block_with_chamfered_hole.off"), load("peg.off"));
+    // The +x chamfer: the plane x - z = 20 between z = 45 and 50, facing the hole.
+    let normal = DVec3::new(-1.0, 0.0, 1.0).normalize();
+    let chamfer = face_with(&block, normal, normal.dot(DVec3::new(65.0, 0.0, 45.0)));
+    // Tilted about x, the peg's corner (64, 36, 10) is its unique extreme towards the
+    // chamfer; put it at (67, 36, 47), on the chamfer, with the peg inside the opening.
+    let r = DMat3::from_rotation_x(0.05);
+    let order = extreme(&peg, r, |p| p.z - p.x);
+    let corner = peg.vertices()[order[0]].position;
+    assert_eq!(corner, DVec3::new(64.0, 36.0, 10.0));
+    let report = evaluate(
+        &block,
+        &peg,
+        DAffine3::from_mat3_translation(r, DVec3::new(67.0, 36.0, 47.0) - r * corner),
+    );
+    assert_eq!(
+        report.contacts,
+        vec![contact(ContactKind::FaceVertex, chamfer, vertex_at(&peg, corner))]
+    );
+    assert_clean(&report);
+}
