@@ -1,10 +1,13 @@
 //! P(X) evaluations per second (target: 100,000 a second on the L-block and box).
 
 use acsg::contact::ContactScene;
+use acsg::convex::ConvexPolytope;
+use acsg::io::MeshSoup;
+use acsg::model::Part;
 use acsg::pose::Pose;
 use acsg::tolerance::CONTACT_REL;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use glam::DAffine3;
+use glam::{DAffine3, DQuat, DVec3};
 
 fn small_pair(c: &mut Criterion) {
     let (l_block, box_part) = acsg::examples::l_block_and_box();
@@ -40,5 +43,53 @@ fn small_pair(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, small_pair);
+/// A convex part with `faces` faces: the cube trimmed by planes tangent to a sphere,
+/// their normals on a Fibonacci lattice (every plane leaves a face).
+fn faceted_sphere(faces: usize, radius: f64) -> Part {
+    let mut polytope = ConvexPolytope::cuboid(DVec3::splat(-2.0 * radius), DVec3::splat(2.0 * radius));
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for i in 0..faces {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / faces as f64;
+        let r = (1.0 - z * z).sqrt();
+        let normal = DVec3::new(r * (golden * i as f64).cos(), r * (golden * i as f64).sin(), z);
+        polytope = polytope
+            .clip(normal, radius, 1e-9 * radius)
+            .expect("the sphere's tangent planes keep it");
+    }
+    let mut soup = MeshSoup {
+        polygon_noun: "face",
+        ..MeshSoup::default()
+    };
+    for face in polytope.faces() {
+        let start = soup.positions.len() as u32;
+        soup.positions.extend(&face.points);
+        soup.polygons.push((start..start + face.points.len() as u32).collect());
+    }
+    Part::try_new(&soup, "faceted sphere").expect("a valid convex part")
+}
+
+fn large_pair(c: &mut Criterion) {
+    let (a, b) = (faceted_sphere(5000, 50.0), faceted_sphere(5000, 30.0));
+    let scene = ContactScene::new(&a, &b);
+    let towards = DVec3::new(0.3, -0.4, 0.866).normalize();
+    let poses: Vec<DAffine3> = [79.5, 80.0, 80.5, 82.0]
+        .iter()
+        .map(|&d| DAffine3::from_rotation_translation(DQuat::from_rotation_z(0.3), towards * d))
+        .collect();
+    let mut group = c.benchmark_group("contacts");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(poses.len() as u64));
+    let name = format!("faceted_spheres_{}_{}_faces_state", a.faces().len(), b.faces().len());
+    group.bench_function(name, |bench| {
+        bench.iter(|| {
+            poses
+                .iter()
+                .map(|p| scene.state(p, CONTACT_REL).contacts.len())
+                .sum::<usize>()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, small_pair, large_pair);
 criterion_main!(benches);

@@ -18,6 +18,7 @@
 //! ```
 
 mod bvh;
+mod gauss;
 pub mod penetration;
 mod placed;
 pub mod queries;

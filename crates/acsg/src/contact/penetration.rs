@@ -19,6 +19,7 @@
 
 use glam::{DAffine3, DVec3};
 
+use super::gauss::{self, GaussHull, Placed};
 use crate::convex::ConvexPolytope;
 use crate::model::Part;
 use crate::tolerance::{SEPARATION_REL, scaled};
@@ -79,14 +80,14 @@ struct Hull {
 impl Hull {
     /// The polytope, mapped by `transform` when given (normals by the inverse transpose,
     /// so a non-rigid but invertible map is also handled).
-    fn new(polytope: &ConvexPolytope, transform: Option<&DAffine3>) -> Hull {
+    fn new(polytope: &ConvexPolytope, transform: Option<&DAffine3>, with_directions: bool) -> Hull {
         let normal_matrix = transform.map(|t| t.matrix3.inverse().transpose());
         let point = |p: DVec3| transform.map_or(p, |t| t.transform_point3(p));
         let vector = |v: DVec3| transform.map_or(v, |t| t.transform_vector3(v));
         let vertices: Vec<DVec3> = polytope.vertices().iter().map(|&p| point(p)).collect();
         let mut normals = Vec::new();
         let mut edges = Vec::new();
-        for face in polytope.faces() {
+        for face in polytope.faces().iter().filter(|_| with_directions) {
             push_direction(&mut normals, normal_matrix.map_or(face.normal, |m| m * face.normal));
             let n = face.points.len();
             for (i, &p) in face.points.iter().enumerate() {
@@ -218,22 +219,42 @@ fn separate(a: &Hull, b: &Hull) -> Separation {
 /// ```
 #[must_use]
 pub fn convex_separation(a: &ConvexPolytope, b: &ConvexPolytope, b_to_a: &DAffine3) -> Separation {
-    separate(&Hull::new(a, None), &Hull::new(b, Some(b_to_a)))
+    separate(&Hull::new(a, None, true), &Hull::new(b, Some(b_to_a), true))
 }
+
+/// Pieces with more faces than this are compared over the facets of the Minkowski
+/// difference (module `gauss`) rather than over all pairs of edge directions.
+const LARGE_PIECE_FACES: usize = 24;
 
 /// A part's convex pieces, prepared once for many penetration checks.
 #[derive(Debug)]
 pub struct PreparedPieces {
     hulls: Vec<Hull>,
+    /// The topology of the large pieces, for the facet-restricted test.
+    gauss: Vec<Option<GaussHull>>,
 }
 
 impl PreparedPieces {
     /// Prepares a part's pieces in its own frame.
     #[must_use]
     pub fn new(part: &Part) -> PreparedPieces {
-        PreparedPieces {
-            hulls: part.convex_pieces().iter().map(|p| Hull::new(p, None)).collect(),
-        }
+        let eps = crate::tolerance::scaled(crate::tolerance::WELD_REL, part.bounds().diagonal());
+        let pieces = part.convex_pieces();
+        let gauss: Vec<Option<GaussHull>> = pieces
+            .iter()
+            .map(|p| {
+                (p.faces().len() > LARGE_PIECE_FACES)
+                    .then(|| GaussHull::new(p, eps))
+                    .flatten()
+            })
+            .collect();
+        // Large pieces need no direction lists: only their vertices and box.
+        let hulls = pieces
+            .iter()
+            .zip(&gauss)
+            .map(|(p, g)| Hull::new(p, None, g.is_none()))
+            .collect();
+        PreparedPieces { hulls, gauss }
     }
 }
 
@@ -264,6 +285,12 @@ pub fn penetration_prepared(
     length: f64,
 ) -> PenetrationReport {
     let b: Vec<Hull> = moving.hulls.iter().map(|h| h.transformed(moving_to_fixed)).collect();
+    let fixed_gauss: Vec<Option<Placed<'_>>> = fixed
+        .gauss
+        .iter()
+        .map(|g| g.as_ref().map(|g| g.placed(&DAffine3::IDENTITY)))
+        .collect();
+    let mut moving_gauss: Vec<Option<Placed<'_>>> = vec![None; moving.gauss.len()];
     let margin = scaled(SEPARATION_REL, length);
     let mut report = PenetrationReport {
         depth: f64::NEG_INFINITY,
@@ -276,7 +303,13 @@ pub fn penetration_prepared(
             let depth = if gap > margin {
                 -gap
             } else {
-                let s = separate(ha, hb);
+                let s = match (&fixed_gauss[i], &moving.gauss[j]) {
+                    (Some(ga), Some(gb)) => {
+                        let gb = moving_gauss[j].get_or_insert_with(|| gb.placed(moving_to_fixed));
+                        gauss::separate(ga, gb)
+                    }
+                    _ => separate(ha, hb),
+                };
                 report.certificates.push((i, j, s.axis, s.offset));
                 s.depth
             };

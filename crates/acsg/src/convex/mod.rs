@@ -205,13 +205,7 @@ fn clip_polygon(points: &[DVec3], side: &impl Fn(DVec3) -> f64, on_plane: &mut V
 }
 
 fn dedup_points(points: Vec<DVec3>, eps: f64) -> Vec<DVec3> {
-    let mut out: Vec<DVec3> = Vec::with_capacity(points.len());
-    for p in points {
-        if !out.iter().any(|q| q.distance(p) <= eps) {
-            out.push(p);
-        }
-    }
-    out
+    crate::topology::weld(&points, eps).0
 }
 
 /// Orders coplanar points of a convex polygon counter-clockwise around `normal`.
