@@ -90,6 +90,22 @@ impl ConvexPolytope {
         polytope
     }
 
+    /// A convex part's own faces as a polytope (the part must have no concave edge).
+    fn from_part_faces(part: &Part, eps: f64) -> ConvexPolytope {
+        let faces: Vec<ConvexFace> = part
+            .faces()
+            .iter()
+            .map(|f| ConvexFace {
+                normal: f.normal,
+                offset: f.offset,
+                points: f.outer().vertices.iter().map(|&v| part.vertex(v).position).collect(),
+            })
+            .collect();
+        let mut polytope = ConvexPolytope { faces, vertices: Vec::new() };
+        polytope.collect_vertices(eps);
+        polytope
+    }
+
     /// The bounding faces.
     #[must_use]
     pub fn faces(&self) -> &[ConvexFace] {
@@ -168,11 +184,15 @@ impl ConvexPolytope {
                 points: cap,
             });
         }
-        let mut polytope = ConvexPolytope {
-            faces,
-            vertices: Vec::new(),
-        };
-        polytope.collect_vertices(eps);
+        // The corners: the old ones on the kept side, then the cap's that are new.
+        let mut vertices: Vec<DVec3> = self.vertices.iter().copied().filter(|&p| side(p) <= 0.0).collect();
+        let kept = vertices.len();
+        for &p in faces.last().filter(|f| f.normal == normal && f.offset == offset).map_or(&[][..], |f| &f.points) {
+            if !vertices[..kept].iter().any(|q| side(*q) == 0.0 && q.distance(p) <= eps) {
+                vertices.push(p);
+            }
+        }
+        let polytope = ConvexPolytope { faces, vertices };
         (polytope.faces.len() >= 4 && polytope.volume() > eps * eps * eps).then_some(polytope)
     }
 
@@ -309,6 +329,10 @@ pub fn decompose(part: &Part) -> Vec<ConvexPolytope> {
         .map(crate::model::EdgeId)
         .filter(|&e| !part.edge(e).convex)
         .collect();
+    if concave.is_empty() {
+        // Connected and locally convex everywhere: the part is its own single piece.
+        return vec![ConvexPolytope::from_part_faces(part, eps)];
+    }
     let bounds = part.bounds();
     let mut pieces = Vec::new();
     let mut stack = vec![(
