@@ -1,7 +1,7 @@
 //! A bounding volume hierarchy over element boxes: the broad phase that makes a part
 //! with thousands of faces cost little more than its near elements.
 
-use glam::DVec3;
+use glam::{DAffine3, DMat3, DVec3};
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +58,19 @@ impl Bounds3 {
             .max(other.min - self.max)
             .max(DVec3::ZERO)
             .length()
+    }
+
+    /// The box around this box mapped by an affine transform.
+    #[must_use]
+    pub fn transformed(&self, t: &DAffine3) -> Bounds3 {
+        let center = t.transform_point3(self.center());
+        let m = t.matrix3;
+        let abs = DMat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
+        let half = abs * ((self.max - self.min) * 0.5);
+        Bounds3 {
+            min: center - half,
+            max: center + half,
+        }
     }
 
     fn center(&self) -> DVec3 {
@@ -146,6 +159,69 @@ impl Bvh {
             match node {
                 Node::Leaf { item, .. } => visit(*item),
                 Node::Inner { left, right, .. } => stack.extend([*left, *right]),
+            }
+        }
+    }
+}
+
+impl Bvh {
+    /// Calls `visit(i, j)` for every item `i` of this hierarchy and `j` of `other` whose
+    /// boxes overlap once `other`'s are mapped by `t` and grown by `margin`. Only pairs
+    /// of nearby subtrees are visited, so the cost follows the near pairs.
+    pub fn query_pairs(&self, other: &Bvh, t: &DAffine3, margin: f64, visit: impl FnMut(u32, u32)) {
+        self.pairs(
+            other,
+            |_, node: &Node| node.bounds().transformed(t).inflated(margin),
+            visit,
+        );
+    }
+
+    /// [`Bvh::query_pairs`] for traversals that visit most of `other`: its boxes are
+    /// mapped once, up front, rather than at every visit.
+    pub fn query_pairs_dense(&self, other: &Bvh, t: &DAffine3, margin: f64, visit: impl FnMut(u32, u32)) {
+        let placed: Vec<Bounds3> = other
+            .nodes
+            .iter()
+            .map(|n| n.bounds().transformed(t).inflated(margin))
+            .collect();
+        self.pairs(other, |j, _| placed[j as usize], visit);
+    }
+
+    /// The traversal: `placed(j, node)` is `other`'s node `j` in this hierarchy's frame.
+    fn pairs(&self, other: &Bvh, placed_box: impl Fn(u32, &Node) -> Bounds3, mut visit: impl FnMut(u32, u32)) {
+        if self.nodes.is_empty() || other.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![(0u32, 0u32)];
+        while let Some((i, j)) = stack.pop() {
+            let (a, b) = (&self.nodes[i as usize], &other.nodes[j as usize]);
+            let placed = placed_box(j, b);
+            if !a.bounds().overlaps(&placed) {
+                continue;
+            }
+            match (a, b) {
+                (Node::Leaf { item: x, .. }, Node::Leaf { item: y, .. }) => visit(*x, *y),
+                (Node::Leaf { .. }, Node::Inner { left, right, .. }) => stack.extend([(i, *left), (i, *right)]),
+                (Node::Inner { left, right, .. }, Node::Leaf { .. }) => stack.extend([(*left, j), (*right, j)]),
+                (
+                    Node::Inner {
+                        bounds: ba,
+                        left: la,
+                        right: ra,
+                    },
+                    Node::Inner {
+                        left: lb, right: rb, ..
+                    },
+                ) => {
+                    // Split the larger box.
+                    let size_a = (ba.max - ba.min).length_squared();
+                    let size_b = (placed.max - placed.min).length_squared();
+                    if size_a >= size_b {
+                        stack.extend([(*la, j), (*ra, j)]);
+                    } else {
+                        stack.extend([(i, *lb), (i, *rb)]);
+                    }
+                }
             }
         }
     }

@@ -12,7 +12,7 @@
 //! So the cost grows with the number of faces and edges, not with their product as the
 //! plain test over all edge pairs does; on penetrating pairs the depth is the same.
 
-use glam::{DAffine3, DVec3};
+use glam::{DAffine3, DMat3, DVec3};
 
 use super::bvh::{Bounds3, Bvh};
 use super::penetration::Separation;
@@ -28,6 +28,14 @@ pub(crate) struct GaussHull {
     face_vertex: Vec<u32>,
     /// Each edge once: end vertices and the two faces it bounds.
     edges: Vec<([u32; 2], [u32; 2])>,
+    /// Faces in Morton order of their normals, so that consecutive faces have close
+    /// normals and a support search can start where the last one ended.
+    face_order: Vec<u32>,
+    /// The hierarchy over the edges' arcs (n_f, n_g), in this hull's own frame: the
+    /// arcs of A when this hull is A.
+    arcs: Bvh,
+    /// The same over the reversed arcs (-n_f, -n_g): the arcs of -B when this hull is B.
+    reversed_arcs: Bvh,
 }
 
 impl GaussHull {
@@ -68,12 +76,25 @@ impl GaussHull {
             let [f, g] = <[u32; 2]>::try_from(faces.as_slice()).ok()?;
             edges.push(([a, b], [f, g]));
         }
+        let normals: Vec<DVec3> = polytope.faces().iter().map(|f| f.normal).collect();
+        let mut face_order: Vec<u32> = (0..normals.len() as u32).collect();
+        face_order.sort_by_key(|&f| morton(normals[f as usize]));
+        let arc_boxes = |sign: f64| -> Vec<Bounds3> {
+            edges
+                .iter()
+                .map(|(_, [f, g])| arc_bounds(normals[*f as usize] * sign, normals[*g as usize] * sign))
+                .collect()
+        };
+        let (arcs, reversed_arcs) = (Bvh::new(&arc_boxes(1.0)), Bvh::new(&arc_boxes(-1.0)));
         Some(GaussHull {
             vertices,
             neighbours,
-            normals: polytope.faces().iter().map(|f| f.normal).collect(),
+            normals,
             face_vertex,
             edges,
+            face_order,
+            arcs,
+            reversed_arcs,
         })
     }
 
@@ -95,6 +116,7 @@ impl GaussHull {
             vertices,
             normals,
             offsets,
+            rotation: t.matrix3,
         }
     }
 }
@@ -106,6 +128,8 @@ pub(crate) struct Placed<'a> {
     vertices: Vec<DVec3>,
     normals: Vec<DVec3>,
     offsets: Vec<f64>,
+    /// The linear part of the placement (rotation).
+    rotation: DMat3,
 }
 
 impl Placed<'_> {
@@ -130,11 +154,24 @@ impl Placed<'_> {
         }
     }
 
-    /// The arc of edge `e` on the Gauss map: the normals of its two faces.
-    fn arc(&self, e: usize, sign: f64) -> (DVec3, DVec3) {
-        let [f, g] = self.hull.edges[e].1;
-        (self.normals[f as usize] * sign, self.normals[g as usize] * sign)
+    /// The arc on the Gauss map between two faces' normals, in the comparison frame.
+    fn arc_of(&self, f: u32, g: u32) -> (DVec3, DVec3) {
+        (self.normals[f as usize], self.normals[g as usize])
     }
+}
+
+/// Interleaves the bits of a unit vector's quantised coordinates.
+fn morton(n: DVec3) -> u64 {
+    let q = |c: f64| (((c + 1.0) * 0.5 * 1023.0).round().clamp(0.0, 1023.0)) as u64;
+    let spread = |mut x: u64| {
+        let mut out = 0;
+        for bit in 0..10 {
+            out |= (x & 1) << (3 * bit);
+            x >>= 1;
+        }
+        out
+    };
+    spread(q(n.x)) | spread(q(n.y)) << 1 | spread(q(n.z)) << 2
 }
 
 /// The box around a short great-circle arc from `u` to `v` (unit vectors).
@@ -166,48 +203,49 @@ pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>) -> Separation {
     };
     // A's faces: h_M(n) = offset_A - min_B(n).
     let mut start = 0;
-    for (n, &offset) in a.normals.iter().zip(&a.offsets) {
-        let (min_b, at) = b.min_along(*n, start);
+    for &f in &a.hull.face_order {
+        let (n, offset) = (a.normals[f as usize], a.offsets[f as usize]);
+        let (min_b, at) = b.min_along(n, start);
         start = at;
-        consider(offset - min_b, *n, 0.5 * (offset + min_b));
+        consider(offset - min_b, n, 0.5 * (offset + min_b));
     }
     // B's faces, reversed: h_M(-m) = offset_B - min_A(m).
     let mut start = 0;
-    for (m, &offset) in b.normals.iter().zip(&b.offsets) {
-        let (min_a, at) = a.min_along(*m, start);
+    for &g in &b.hull.face_order {
+        let (m, offset) = (b.normals[g as usize], b.offsets[g as usize]);
+        let (min_a, at) = a.min_along(m, start);
         start = at;
-        consider(offset - min_a, -*m, -0.5 * (offset + min_a));
+        consider(offset - min_a, -m, -0.5 * (offset + min_a));
     }
-    // Edge pairs whose arcs (A's, and -B's) cross.
-    let boxes: Vec<Bounds3> = (0..b.hull.edges.len())
-        .map(|e| {
-            let (c, d) = b.arc(e, -1.0);
-            arc_bounds(c, d)
-        })
-        .collect();
-    let bvh = Bvh::new(&boxes);
-    for (ea, ([p, q], _)) in a.hull.edges.iter().enumerate() {
-        let (n1, n2) = a.arc(ea, 1.0);
-        let (pa, qa) = (a.vertices[*p as usize], a.vertices[*q as usize]);
-        bvh.query(&arc_bounds(n1, n2), |eb| {
-            let eb = eb as usize;
-            let (c, d) = b.arc(eb, -1.0);
+    // Edge pairs whose arcs (A's, and -B's) cross: one traversal of both hierarchies,
+    // B's boxes mapped into A's own frame; the exact test in A's own frame too.
+    let b_to_a = DAffine3::from_mat3(a.rotation.inverse() * b.rotation);
+    a.hull
+        .arcs
+        .query_pairs_dense(&b.hull.reversed_arcs, &b_to_a, 0.0, |ea, eb| {
+            let ([p, q], [f, g]) = a.hull.edges[ea as usize];
+            let ([r, s], [fb, gb]) = b.hull.edges[eb as usize];
+            let (n1, n2) = (a.hull.normals[f as usize], a.hull.normals[g as usize]);
+            let (c, d) = (
+                b_to_a.matrix3 * -b.hull.normals[fb as usize],
+                b_to_a.matrix3 * -b.hull.normals[gb as usize],
+            );
             if !arcs_cross(n1, n2, c, d) {
                 return;
             }
-            let [r, s] = b.hull.edges[eb].0;
+            let (pa, qa) = (a.vertices[p as usize], a.vertices[q as usize]);
             let (pb, qb) = (b.vertices[r as usize], b.vertices[s as usize]);
             let axis = (qa - pa).cross(qb - pb);
             if axis.length_squared() == 0.0 {
                 return;
             }
-            // The facet normal lies between the arc's end normals.
+            // The facet normal lies between the arc's end normals (in the comparison frame).
             let axis = axis.normalize();
-            let axis = if axis.dot(n1 + n2) < 0.0 { -axis } else { axis };
+            let (m1, m2) = a.arc_of(f, g);
+            let axis = if axis.dot(m1 + m2) < 0.0 { -axis } else { axis };
             let (ha, hb) = (axis.dot(pa), axis.dot(pb));
             consider(ha - hb, axis, 0.5 * (ha + hb));
         });
-    }
     best
 }
 

@@ -178,6 +178,8 @@ pub struct ContactScene<'a> {
     moving: &'a Part,
     fixed_elements: Vec<ElementId>,
     fixed_boxes: Vec<Bounds3>,
+    moving_elements: Vec<ElementId>,
+    moving_bvh: Bvh,
     fixed_pieces: penetration::PreparedPieces,
     moving_pieces: penetration::PreparedPieces,
     bvh: Bvh,
@@ -193,11 +195,16 @@ impl<'a> ContactScene<'a> {
         let boxes: Vec<Bounds3> = fixed_elements.iter().map(|&e| placed.bounds(e)).collect();
         let scale = fixed.bounds().diagonal().max(moving.bounds().diagonal());
         let bvh = Bvh::new(&boxes);
+        let moving_local = PlacedPart::new(moving, &DAffine3::IDENTITY);
+        let moving_elements = moving_local.elements();
+        let moving_boxes: Vec<Bounds3> = moving_elements.iter().map(|&e| moving_local.bounds(e)).collect();
         ContactScene {
             fixed: placed,
             moving,
             fixed_elements,
             fixed_boxes: boxes,
+            moving_bvh: Bvh::new(&moving_boxes),
+            moving_elements,
             fixed_pieces: penetration::PreparedPieces::new(fixed),
             moving_pieces: penetration::PreparedPieces::new(moving),
             bvh,
@@ -235,26 +242,23 @@ impl<'a> ContactScene<'a> {
         let moving = PlacedPart::new(self.moving, moving_to_fixed);
         let mut touches = Vec::new();
         let mut min_gap: Option<f64> = None;
-        for b in moving.elements() {
-            let bounds_b = moving.bounds(b);
-            self.bvh.query(&bounds_b.inflated(search), |i| {
-                let a = self.fixed_elements[i as usize];
-                // The boxes' gap bounds the elements' distance from below.
-                let box_gap = self.fixed_boxes[i as usize].gap(&bounds_b);
-                if box_gap <= tol {
-                    if let Some(set) = touch::touch(&self.fixed, a, &moving, b, tol) {
-                        touches.push((a, b, set));
-                        return;
-                    }
+        self.bvh.query_pairs(&self.moving_bvh, moving_to_fixed, search, |i, j| {
+            let (a, b) = (self.fixed_elements[i as usize], self.moving_elements[j as usize]);
+            // The boxes' gap bounds the elements' distance from below.
+            let box_gap = self.fixed_boxes[i as usize].gap(&moving.bounds(b));
+            if box_gap <= tol {
+                if let Some(set) = touch::touch(&self.fixed, a, &moving, b, tol) {
+                    touches.push((a, b, set));
+                    return;
                 }
-                if with_gap && box_gap < min_gap.unwrap_or(search) {
-                    let d = touch::distance(&self.fixed, a, &moving, b);
-                    if d > tol && d < min_gap.unwrap_or(search) {
-                        min_gap = Some(d);
-                    }
+            }
+            if with_gap && box_gap < min_gap.unwrap_or(search) {
+                let d = touch::distance(&self.fixed, a, &moving, b);
+                if d > tol && d < min_gap.unwrap_or(search) {
+                    min_gap = Some(d);
                 }
-            });
-        }
+            }
+        });
         let mut contacts: Vec<PrincipalContact> = touch::principal(self.fixed.part, self.moving, &touches, tol)
             .into_iter()
             .map(|(a, b)| {

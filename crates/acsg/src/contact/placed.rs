@@ -1,5 +1,8 @@
 //! A part's elements as points in one frame: the fixed part in its own frame once, the
-//! moving part transformed per pose.
+//! moving part transformed per pose. Vertices and face planes are mapped eagerly (cheap);
+//! a face's loops and triangles only when a query needs that face.
+
+use std::cell::OnceCell;
 
 use glam::{DAffine3, DVec3};
 
@@ -7,17 +10,21 @@ use super::bvh::Bounds3;
 use super::queries::{PlanarRegion, Segment};
 use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 
+/// A face's loops and triangles as points.
+#[derive(Clone, Debug)]
+struct FacePoints {
+    loops: Vec<Vec<DVec3>>,
+    triangles: Vec<[DVec3; 3]>,
+}
+
 /// The geometry of a part's faces, edges and vertices in some frame.
 #[derive(Clone, Debug)]
 pub(crate) struct PlacedPart<'a> {
     pub part: &'a Part,
-    pub positions: Vec<DVec3>,
-    pub normals: Vec<DVec3>,
-    pub offsets: Vec<f64>,
-    /// Each face's loops as points.
-    pub loops: Vec<Vec<Vec<DVec3>>>,
-    /// Each face's triangles as points.
-    pub triangles: Vec<Vec<[DVec3; 3]>>,
+    positions: Vec<DVec3>,
+    normals: Vec<DVec3>,
+    offsets: Vec<f64>,
+    faces: Vec<OnceCell<FacePoints>>,
 }
 
 impl<'a> PlacedPart<'a> {
@@ -28,7 +35,6 @@ impl<'a> PlacedPart<'a> {
             .iter()
             .map(|v| transform.transform_point3(v.position))
             .collect();
-        let at = |v: VertexId| positions[v.index()];
         let normals: Vec<DVec3> = part
             .faces()
             .iter()
@@ -38,30 +44,15 @@ impl<'a> PlacedPart<'a> {
             .faces()
             .iter()
             .zip(&normals)
-            .map(|(f, n)| n.dot(at(f.outer().vertices[0])))
+            .map(|(f, n)| n.dot(positions[f.outer().vertices[0].index()]))
             .collect();
-        let loops = part
-            .faces()
-            .iter()
-            .map(|f| {
-                f.loops
-                    .iter()
-                    .map(|l| l.vertices.iter().map(|&v| at(v)).collect())
-                    .collect()
-            })
-            .collect();
-        let triangles = part
-            .faces()
-            .iter()
-            .map(|f| f.triangles.iter().map(|t| t.map(at)).collect())
-            .collect();
+        let faces = vec![OnceCell::new(); part.faces().len()];
         PlacedPart {
             part,
             positions,
             normals,
             offsets,
-            loops,
-            triangles,
+            faces,
         }
     }
 
@@ -74,13 +65,28 @@ impl<'a> PlacedPart<'a> {
         Segment::new(self.vertex(a), self.vertex(b))
     }
 
+    fn face_points(&self, f: FaceId) -> &FacePoints {
+        self.faces[f.index()].get_or_init(|| {
+            let face = self.part.face(f);
+            let at = |v: VertexId| self.positions[v.index()];
+            FacePoints {
+                loops: face
+                    .loops
+                    .iter()
+                    .map(|l| l.vertices.iter().map(|&v| at(v)).collect())
+                    .collect(),
+                triangles: face.triangles.iter().map(|t| t.map(at)).collect(),
+            }
+        })
+    }
+
     pub fn region(&self, f: FaceId) -> PlanarRegion<'_> {
-        let i = f.index();
+        let points = self.face_points(f);
         PlanarRegion {
-            normal: self.normals[i],
-            offset: self.offsets[i],
-            loops: &self.loops[i],
-            triangles: &self.triangles[i],
+            normal: self.normals[f.index()],
+            offset: self.offsets[f.index()],
+            loops: &points.loops,
+            triangles: &points.triangles,
         }
     }
 
@@ -99,7 +105,14 @@ impl<'a> PlacedPart<'a> {
                 let s = self.segment(e);
                 Bounds3::around([s.a, s.b])
             }
-            ElementId::Face(f) => Bounds3::around(self.loops[f.index()][0].iter().copied()),
+            ElementId::Face(f) => Bounds3::around(
+                self.part
+                    .face(f)
+                    .outer()
+                    .vertices
+                    .iter()
+                    .map(|&v| self.positions[v.index()]),
+            ),
         }
     }
 }

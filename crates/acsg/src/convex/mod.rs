@@ -101,7 +101,10 @@ impl ConvexPolytope {
                 points: f.outer().vertices.iter().map(|&v| part.vertex(v).position).collect(),
             })
             .collect();
-        let mut polytope = ConvexPolytope { faces, vertices: Vec::new() };
+        let mut polytope = ConvexPolytope {
+            faces,
+            vertices: Vec::new(),
+        };
         polytope.collect_vertices(eps);
         polytope
     }
@@ -187,7 +190,11 @@ impl ConvexPolytope {
         // The corners: the old ones on the kept side, then the cap's that are new.
         let mut vertices: Vec<DVec3> = self.vertices.iter().copied().filter(|&p| side(p) <= 0.0).collect();
         let kept = vertices.len();
-        for &p in faces.last().filter(|f| f.normal == normal && f.offset == offset).map_or(&[][..], |f| &f.points) {
+        for &p in faces
+            .last()
+            .filter(|f| f.normal == normal && f.offset == offset)
+            .map_or(&[][..], |f| &f.points)
+        {
             if !vertices[..kept].iter().any(|q| side(*q) == 0.0 && q.distance(p) <= eps) {
                 vertices.push(p);
             }
