@@ -1,9 +1,6 @@
 //! P(X) evaluations per second (target: 100,000 a second on the L-block and box).
 
 use acsg::contact::ContactScene;
-use acsg::convex::ConvexPolytope;
-use acsg::io::MeshSoup;
-use acsg::model::Part;
 use acsg::pose::Pose;
 use acsg::tolerance::CONTACT_REL;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
@@ -43,33 +40,11 @@ fn small_pair(c: &mut Criterion) {
     group.finish();
 }
 
-/// A convex part with `faces` faces: the cube trimmed by planes tangent to a sphere,
-/// their normals on a Fibonacci lattice (every plane leaves a face).
-fn faceted_sphere(faces: usize, radius: f64) -> Part {
-    let mut polytope = ConvexPolytope::cuboid(DVec3::splat(-2.0 * radius), DVec3::splat(2.0 * radius));
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    for i in 0..faces {
-        let z = 1.0 - 2.0 * (i as f64 + 0.5) / faces as f64;
-        let r = (1.0 - z * z).sqrt();
-        let normal = DVec3::new(r * (golden * i as f64).cos(), r * (golden * i as f64).sin(), z);
-        polytope = polytope
-            .clip(normal, radius, 1e-9 * radius)
-            .expect("the sphere's tangent planes keep it");
-    }
-    let mut soup = MeshSoup {
-        polygon_noun: "face",
-        ..MeshSoup::default()
-    };
-    for face in polytope.faces() {
-        let start = soup.positions.len() as u32;
-        soup.positions.extend(&face.points);
-        soup.polygons.push((start..start + face.points.len() as u32).collect());
-    }
-    Part::try_new(&soup, "faceted sphere").expect("a valid convex part")
-}
-
 fn large_pair(c: &mut Criterion) {
-    let (a, b) = (faceted_sphere(5000, 50.0), faceted_sphere(5000, 30.0));
+    let (a, b) = (
+        acsg::examples::faceted_sphere(5000, 50.0),
+        acsg::examples::faceted_sphere(5000, 30.0),
+    );
     let scene = ContactScene::new(&a, &b);
     let towards = DVec3::new(0.3, -0.4, 0.866).normalize();
     let poses: Vec<DAffine3> = [79.5, 80.0, 80.5, 82.0]

@@ -32,3 +32,41 @@ pub fn l_block_and_box() -> (Part, Part) {
         builtin("builtin:box.off", BOX_OFF),
     )
 }
+
+/// A convex part with `faces` faces around a sphere of radius `radius` at the origin:
+/// the cube trimmed by the sphere's tangent planes, their normals on a Fibonacci
+/// lattice (so every plane leaves a face). For benchmarks on many-faced parts.
+///
+/// ```
+/// let part = acsg::examples::faceted_sphere(200, 10.0);
+/// assert_eq!(part.faces().len(), 200);
+/// assert_eq!(part.convex_pieces().len(), 1);
+/// ```
+///
+/// # Panics
+/// If `faces` is too small to close the solid (fewer than 4).
+#[must_use]
+pub fn faceted_sphere(faces: usize, radius: f64) -> Part {
+    use crate::convex::ConvexPolytope;
+    use glam::DVec3;
+    let mut polytope = ConvexPolytope::cuboid(DVec3::splat(-2.0 * radius), DVec3::splat(2.0 * radius));
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for i in 0..faces {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / faces as f64;
+        let r = (1.0 - z * z).sqrt();
+        let normal = DVec3::new(r * (golden * i as f64).cos(), r * (golden * i as f64).sin(), z);
+        polytope = polytope
+            .clip(normal, radius, 1e-9 * radius)
+            .expect("a tangent plane keeps the sphere");
+    }
+    let mut soup = crate::io::MeshSoup {
+        polygon_noun: "face",
+        ..Default::default()
+    };
+    for face in polytope.faces() {
+        let start = soup.positions.len() as u32;
+        soup.positions.extend(&face.points);
+        soup.polygons.push((start..start + face.points.len() as u32).collect());
+    }
+    Part::try_new(&soup, "faceted sphere").expect("a closed convex solid")
+}
