@@ -1,0 +1,184 @@
+//! Interval arithmetic for conservative reach tests: where can a point of the moving
+//! part be, over every pose in the bounds?
+
+use glam::DVec3;
+
+use crate::pose::Bounds;
+
+/// A closed interval `[lo, hi]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Interval {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl Interval {
+    pub fn new(lo: f64, hi: f64) -> Interval {
+        Interval { lo, hi }
+    }
+
+    pub fn point(x: f64) -> Interval {
+        Interval { lo: x, hi: x }
+    }
+
+    pub fn add(self, o: Interval) -> Interval {
+        Interval::new(self.lo + o.lo, self.hi + o.hi)
+    }
+
+    pub fn mul(self, o: Interval) -> Interval {
+        let c = [self.lo * o.lo, self.lo * o.hi, self.hi * o.lo, self.hi * o.hi];
+        Interval::new(
+            c.iter().copied().fold(f64::INFINITY, f64::min),
+            c.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        )
+    }
+
+    pub fn neg(self) -> Interval {
+        Interval::new(-self.hi, -self.lo)
+    }
+
+    /// cos over an angle interval.
+    pub fn cos(self) -> Interval {
+        if self.hi - self.lo >= std::f64::consts::TAU {
+            return Interval::new(-1.0, 1.0);
+        }
+        let (a, b) = (self.lo.cos(), self.hi.cos());
+        let mut out = Interval::new(a.min(b), a.max(b));
+        // Extrema at multiples of π inside the interval.
+        let first = (self.lo / std::f64::consts::PI).ceil() as i64;
+        let last = (self.hi / std::f64::consts::PI).floor() as i64;
+        for k in first..=last {
+            let v = if k.rem_euclid(2) == 0 { 1.0 } else { -1.0 };
+            out.lo = out.lo.min(v);
+            out.hi = out.hi.max(v);
+        }
+        out
+    }
+
+    /// sin over an angle interval.
+    pub fn sin(self) -> Interval {
+        Interval::new(
+            self.lo - std::f64::consts::FRAC_PI_2,
+            self.hi - std::f64::consts::FRAC_PI_2,
+        )
+        .cos()
+    }
+}
+
+/// A 3x3 matrix of intervals, rows first.
+type IntervalMat = [[Interval; 3]; 3];
+
+fn mat_mul(a: &IntervalMat, b: &IntervalMat) -> IntervalMat {
+    let mut out = [[Interval::point(0.0); 3]; 3];
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, cell) in row.iter_mut().enumerate() {
+            *cell = (0..3).fold(Interval::point(0.0), |acc, k| acc.add(a[i][k].mul(b[k][j])));
+        }
+    }
+    out
+}
+
+/// Enclosure of R = Rz(rz) Ry(ry) Rx(rx) over the bounds' angle box.
+fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
+    let angle = |lo: f64, hi: f64| Interval::new(lo, hi);
+    let (x, y, z) = (
+        angle(bounds.min.rx, bounds.max.rx),
+        angle(bounds.min.ry, bounds.max.ry),
+        angle(bounds.min.rz, bounds.max.rz),
+    );
+    let (zero, one) = (Interval::point(0.0), Interval::point(1.0));
+    let rx = [
+        [one, zero, zero],
+        [zero, x.cos(), x.sin().neg()],
+        [zero, x.sin(), x.cos()],
+    ];
+    let ry = [
+        [y.cos(), zero, y.sin()],
+        [zero, one, zero],
+        [y.sin().neg(), zero, y.cos()],
+    ];
+    let rz = [
+        [z.cos(), z.sin().neg(), zero],
+        [z.sin(), z.cos(), zero],
+        [zero, zero, one],
+    ];
+    mat_mul(&mat_mul(&rz, &ry), &rx)
+}
+
+/// A box holding `R p + t` for every pose in the bounds (with an identity assembled
+/// pose), computed once per bounds and applied to many points.
+#[derive(Clone, Debug)]
+pub(crate) struct ReachBox {
+    rotation: IntervalMat,
+    translation: [Interval; 3],
+}
+
+impl ReachBox {
+    pub fn new(bounds: &Bounds) -> ReachBox {
+        ReachBox {
+            rotation: rotation_enclosure(bounds),
+            translation: [
+                Interval::new(bounds.min.x, bounds.max.x),
+                Interval::new(bounds.min.y, bounds.max.y),
+                Interval::new(bounds.min.z, bounds.max.z),
+            ],
+        }
+    }
+
+    /// The box of a point of the moving part over all poses: (min corner, max corner).
+    pub fn of(&self, p: DVec3) -> (DVec3, DVec3) {
+        let mut lo = DVec3::ZERO;
+        let mut hi = DVec3::ZERO;
+        for i in 0..3 {
+            let row = &self.rotation[i];
+            let v = (0..3).fold(self.translation[i], |acc, k| acc.add(row[k].mul(Interval::point(p[k]))));
+            lo[i] = v.lo;
+            hi[i] = v.hi;
+        }
+        (lo, hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pose::Pose;
+
+    #[test]
+    fn reach_boxes_enclose_sampled_poses() {
+        let bounds = Bounds::try_new([-1.0, -2.0, 0.0, -0.3, -0.2, -1.5], [1.0, 2.0, 5.0, 0.4, 0.6, 2.5]).unwrap();
+        let reach = ReachBox::new(&bounds);
+        let p = DVec3::new(3.0, -4.0, 7.0);
+        let (lo, hi) = reach.of(p);
+        let mut state = 0x9e37_79b9_u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..2000 {
+            let x: [f64; 6] = std::array::from_fn(|i| {
+                let (a, b) = (bounds.min.to_array()[i], bounds.max.to_array()[i]);
+                a + (b - a) * next()
+            });
+            let q = Pose::from_array(x)
+                .to_affine(&glam::DAffine3::IDENTITY)
+                .transform_point3(p);
+            assert!(
+                q.cmpge(lo - 1e-12).all() && q.cmple(hi + 1e-12).all(),
+                "{q} outside {lo}..{hi}"
+            );
+        }
+        // Not absurdly loose: within the sphere of reach around the translation box.
+        assert!((hi - lo).max_element() < 2.0 * p.length() + 5.0 + 1e-9);
+    }
+
+    #[test]
+    fn cos_and_sin_bounds_are_tight_at_extrema() {
+        let c = Interval::new(-0.5, 3.5).cos();
+        assert!((c.hi - 1.0).abs() < 1e-15 && (c.lo + 1.0).abs() < 1e-15);
+        let s = Interval::new(0.1, 0.2).sin();
+        assert!((s.lo - 0.1f64.sin()).abs() < 1e-15 && (s.hi - 0.2f64.sin()).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,103 @@
+//! Stage 1 (feasible primitive contacts) against hand-derived sets, every witness
+//! re-verified through the contact module.
+
+use std::path::PathBuf;
+
+use acsg::contact::{ContactKind, ContactScene, PrincipalContact};
+use acsg::feasibility::{Problem, SearchStats, primitive_contacts};
+use acsg::model::{ElementId, FaceId, Part, VertexId};
+use acsg::pose::{Bounds, Pose};
+use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
+use glam::{DAffine3, DVec3};
+
+fn load(name: &str) -> Part {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures")
+        .join(name);
+    Part::from_path(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+/// Checks a witness without the optimiser: inside the bounds, P(X) is exactly the
+/// contact, nothing penetrates, every other pair is clear.
+fn verify(fixed: &Part, moving: &Part, bounds: &Bounds, contact: &PrincipalContact, pose: &Pose) {
+    assert!(bounds.contains(pose, 1e-12, 1e-12), "{pose:?} outside the bounds");
+    let scene = ContactScene::new(fixed, moving);
+    let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.contacts, vec![*contact], "at {pose:?}");
+    assert_eq!(report.penetration, 0.0);
+    if let Some(gap) = report.min_gap {
+        assert!(
+            gap >= SEPARATION_REL * scene.scale(),
+            "a pair only {gap} apart at {pose:?}"
+        );
+    }
+}
+
+fn slab_top(slab: &Part) -> ElementId {
+    let i = slab
+        .faces()
+        .iter()
+        .position(|f| f.normal.distance(DVec3::Z) < 1e-12 && f.offset.abs() < 1e-12)
+        .unwrap();
+    ElementId::Face(FaceId(i as u32))
+}
+
+fn cube_vertices_where(cube: &Part, keep: impl Fn(DVec3) -> bool) -> Vec<ElementId> {
+    (0..cube.vertices().len() as u32)
+        .filter(|&v| keep(cube.vertex(VertexId(v)).position))
+        .map(|v| ElementId::Vertex(VertexId(v)))
+        .collect()
+}
+
+fn run_stage1(fixed: &Part, moving: &Part, bounds: Bounds) -> (Vec<(PrincipalContact, Pose)>, SearchStats) {
+    let problem = Problem::new(fixed, moving, bounds, DAffine3::IDENTITY);
+    let mut stats = SearchStats::default();
+    let found = problem.feasible_primitives(&mut stats);
+    for (contact, pose) in &found {
+        verify(fixed, moving, &bounds, contact, pose);
+    }
+    (found, stats)
+}
+
+#[test]
+fn a_cube_free_to_turn_over_a_slab_can_touch_it_with_any_of_its_8_vertices() {
+    let (slab, cube) = (load("slab.off"), load("cube.off"));
+    let pi = std::f64::consts::PI;
+    let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -pi, -pi, -pi], [1.0, 1.0, 30.0, pi, pi, pi]).unwrap();
+    let (found, stats) = run_stage1(&slab, &cube, bounds);
+    let top = slab_top(&slab);
+    let expected: Vec<PrincipalContact> = cube_vertices_where(&cube, |_| true)
+        .into_iter()
+        .map(|v| PrincipalContact {
+            fixed: top,
+            moving: v,
+            kind: ContactKind::FaceVertex,
+        })
+        .collect();
+    let got: Vec<PrincipalContact> = found.iter().map(|(c, _)| *c).collect();
+    assert_eq!(got, expected);
+    assert_eq!(primitive_contacts(&slab, &cube).len(), 6 * 8 + 12 * 12 + 8 * 6);
+    assert!(
+        stats.pruned > 0,
+        "the slab's far edges and vertices are out of reach: {stats:?}"
+    );
+}
+
+#[test]
+fn with_the_tilt_limited_to_10_degrees_only_the_4_bottom_vertices_can_touch() {
+    let (slab, cube) = (load("slab.off"), load("cube.off"));
+    let (tilt, pi) = (10f64.to_radians(), std::f64::consts::PI);
+    let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -tilt, -tilt, -pi], [1.0, 1.0, 30.0, tilt, tilt, pi]).unwrap();
+    let (found, _) = run_stage1(&slab, &cube, bounds);
+    let top = slab_top(&slab);
+    let expected: Vec<PrincipalContact> = cube_vertices_where(&cube, |p| p.z == 0.0)
+        .into_iter()
+        .map(|v| PrincipalContact {
+            fixed: top,
+            moving: v,
+            kind: ContactKind::FaceVertex,
+        })
+        .collect();
+    let got: Vec<PrincipalContact> = found.iter().map(|(c, _)| *c).collect();
+    assert_eq!(got, expected);
+}
