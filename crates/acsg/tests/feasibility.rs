@@ -101,3 +101,38 @@ fn with_the_tilt_limited_to_10_degrees_only_the_4_bottom_vertices_can_touch() {
     let got: Vec<PrincipalContact> = found.iter().map(|(c, _)| *c).collect();
     assert_eq!(got, expected);
 }
+
+#[test]
+fn the_papers_example_stage_1_has_verified_witnesses() {
+    let (l_block, box_part) = acsg::examples::l_block_and_box();
+    let r = std::f64::consts::PI / 10.0;
+    let bounds = Bounds::try_new([-5.0, -5.0, 0.0, -r, -r, -r], [5.0, 5.0, 240.0, r, r, r]).unwrap();
+    let started = std::time::Instant::now();
+    let (found, stats) = run_stage1(&l_block, &box_part, bounds);
+    eprintln!(
+        "stage 1: {} of 328 feasible, {stats:?}, {:?}",
+        found.len(),
+        started.elapsed()
+    );
+    for (c, pose) in &found {
+        eprintln!("  {} {} - {} at {pose:?}", c.kind, c.fixed, c.moving);
+    }
+    // Which bottom corners of the box can touch the floor alone, derived by hand: B turns
+    // about A's origin and z >= 0. A corner (x, y, 50) is the unique lowest only with
+    // sign(ry) = sign(x - 100) and sign(rx) = sign(50 - y); its height is then
+    // -x sin ry + y cos ry sin rx + 50 cos ry cos rx, which can reach 50 (the floor)
+    // unless x = 50 and y = 10: there both first terms are positive and exceed
+    // 50 (1 - cos ry cos rx) for angles within pi/10.
+    let floor = l_block
+        .faces()
+        .iter()
+        .position(|f| f.normal.distance(DVec3::Z) < 1e-12 && (f.offset - 50.0).abs() < 1e-9)
+        .unwrap();
+    let on_floor: Vec<ElementId> = found
+        .iter()
+        .filter(|(c, _)| c.fixed == ElementId::Face(FaceId(floor as u32)) && c.kind == ContactKind::FaceVertex)
+        .map(|(c, _)| c.moving)
+        .collect();
+    let expected = cube_vertices_where(&box_part, |p| p.z == 50.0 && !(p.x == 50.0 && p.y == 10.0));
+    assert_eq!(on_floor, expected);
+}
