@@ -170,8 +170,13 @@ mod tests {
                 "{q} outside {lo}..{hi}"
             );
         }
-        // Not absurdly loose: within the sphere of reach around the translation box.
-        assert!((hi - lo).max_element() < 2.0 * p.length() + 5.0 + 1e-9);
+        // With the angles fixed, interval arithmetic is exact: the box is the point
+        // plus the translation box.
+        let fixed = Bounds::try_new([-1.0, -2.0, 0.0, 0.3, -0.2, 1.1], [1.0, 2.0, 5.0, 0.3, -0.2, 1.1]).unwrap();
+        let (flo, fhi) = ReachBox::new(&fixed).of(p);
+        let q = Pose::from_array([0.0, 0.0, 0.0, 0.3, -0.2, 1.1]).rotation() * p;
+        assert!(flo.distance(q + DVec3::new(-1.0, -2.0, 0.0)) < 1e-12, "{flo}");
+        assert!(fhi.distance(q + DVec3::new(1.0, 2.0, 5.0)) < 1e-12, "{fhi}");
     }
 
     #[test]
