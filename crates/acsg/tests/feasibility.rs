@@ -49,6 +49,19 @@ fn cube_vertices_where(cube: &Part, keep: impl Fn(DVec3) -> bool) -> Vec<Element
         .collect()
 }
 
+/// The f-v contacts of the slab's top face with the cube's vertices that `keep` selects.
+fn top_face_contacts(slab: &Part, cube: &Part, keep: impl Fn(DVec3) -> bool) -> Vec<PrincipalContact> {
+    let top = slab_top(slab);
+    cube_vertices_where(cube, keep)
+        .into_iter()
+        .map(|v| PrincipalContact {
+            fixed: top,
+            moving: v,
+            kind: ContactKind::FaceVertex,
+        })
+        .collect()
+}
+
 fn run_stage1(fixed: &Part, moving: &Part, bounds: Bounds) -> (Vec<(PrincipalContact, Pose)>, SearchStats) {
     let problem = Problem::new(fixed, moving, bounds, DAffine3::IDENTITY);
     let mut stats = SearchStats::default();
@@ -65,15 +78,7 @@ fn a_cube_free_to_turn_over_a_slab_can_touch_it_with_any_of_its_8_vertices() {
     let pi = std::f64::consts::PI;
     let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -pi, -pi, -pi], [1.0, 1.0, 30.0, pi, pi, pi]).unwrap();
     let (found, stats) = run_stage1(&slab, &cube, bounds);
-    let top = slab_top(&slab);
-    let expected: Vec<PrincipalContact> = cube_vertices_where(&cube, |_| true)
-        .into_iter()
-        .map(|v| PrincipalContact {
-            fixed: top,
-            moving: v,
-            kind: ContactKind::FaceVertex,
-        })
-        .collect();
+    let expected = top_face_contacts(&slab, &cube, |_| true);
     let got: Vec<PrincipalContact> = found.iter().map(|(c, _)| *c).collect();
     assert_eq!(got, expected);
     assert_eq!(primitive_contacts(&slab, &cube).len(), 6 * 8 + 12 * 12 + 8 * 6);
@@ -89,15 +94,7 @@ fn with_the_tilt_limited_to_10_degrees_only_the_4_bottom_vertices_can_touch() {
     let (tilt, pi) = (10f64.to_radians(), std::f64::consts::PI);
     let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -tilt, -tilt, -pi], [1.0, 1.0, 30.0, tilt, tilt, pi]).unwrap();
     let (found, _) = run_stage1(&slab, &cube, bounds);
-    let top = slab_top(&slab);
-    let expected: Vec<PrincipalContact> = cube_vertices_where(&cube, |p| p.z == 0.0)
-        .into_iter()
-        .map(|v| PrincipalContact {
-            fixed: top,
-            moving: v,
-            kind: ContactKind::FaceVertex,
-        })
-        .collect();
+    let expected = top_face_contacts(&slab, &cube, |p| p.z == 0.0);
     let got: Vec<PrincipalContact> = found.iter().map(|(c, _)| *c).collect();
     assert_eq!(got, expected);
 }

@@ -212,6 +212,13 @@ impl<'a> ContactScene<'a> {
         }
     }
 
+    /// The signed penetration depth on the convex pieces ([`penetration::penetration`]):
+    /// positive when the parts penetrate, at most zero otherwise.
+    #[must_use]
+    pub fn penetration_depth(&self, moving_to_fixed: &DAffine3) -> f64 {
+        penetration::penetration_prepared(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed, self.scale).depth
+    }
+
     /// L: the larger bounding-box diagonal of the two parts.
     #[must_use]
     pub fn scale(&self) -> f64 {
@@ -273,9 +280,7 @@ impl<'a> ContactScene<'a> {
             })
             .collect();
         contacts.sort();
-        let depth =
-            penetration::penetration_prepared(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed, self.scale)
-                .depth;
+        let depth = self.penetration_depth(moving_to_fixed);
         // Within the contact tolerance, overlap is touching (rounding of the placement).
         let penetration = if depth > tol { depth } else { 0.0 };
         ContactReport {

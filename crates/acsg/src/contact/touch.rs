@@ -142,9 +142,8 @@ fn edge_edge(s1: &Segment, s2: &Segment, tol: f64) -> Option<TouchSet> {
         let dir = (s1.b - s1.a) / len;
         let (ta, tb) = (dir.dot(s2.a - s1.a), dir.dot(s2.b - s1.a));
         let (lo, hi) = (ta.min(tb).max(0.0), ta.max(tb).min(len));
-        // Relative interiors shrunk by tol on both edges.
-        let (lo_in, hi_in) = (ta.min(tb).max(0.0) + tol, ta.max(tb).min(len) - tol);
-        return (hi_in > lo_in).then(|| TouchSet::Segments(vec![Segment::new(s1.a + dir * lo, s1.a + dir * hi)]));
+        // The overlap must survive shrinking both relative interiors by tol.
+        return (hi - lo > 2.0 * tol).then(|| TouchSet::Segments(vec![Segment::new(s1.a + dir * lo, s1.a + dir * hi)]));
     }
     let (d, s, t) = segment_segment(s1, s2);
     let (p, q) = (s1.at(s), s2.at(t));

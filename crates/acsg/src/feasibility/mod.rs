@@ -16,7 +16,6 @@ mod solver;
 
 use glam::{DAffine3, DVec3};
 
-use crate::contact::penetration::{PreparedPieces, penetration_prepared};
 use crate::contact::queries::{PlanarRegion, Segment, point_segment};
 use crate::contact::{ContactKind, ContactScene, PrincipalContact};
 use crate::model::{ElementId, FaceId, Part};
@@ -171,8 +170,6 @@ pub struct Problem<'a> {
     bounds: Bounds,
     assembled: DAffine3,
     scene: ContactScene<'a>,
-    fixed_pieces: PreparedPieces,
-    moving_pieces: PreparedPieces,
     fixed_faces: Vec<FaceShape>,
     moving_faces: Vec<FaceShape>,
     reach: interval::ReachBox,
@@ -193,8 +190,6 @@ impl<'a> Problem<'a> {
             moving,
             bounds,
             assembled,
-            fixed_pieces: PreparedPieces::new(fixed),
-            moving_pieces: PreparedPieces::new(moving),
             fixed_faces: FaceShape::all(fixed, margin),
             moving_faces: FaceShape::all(moving, margin),
             reach: interval::ReachBox::new(&bounds),
@@ -283,9 +278,10 @@ impl<'a> Problem<'a> {
                     }
                 }
             }
-            _ => unreachable!("only primitive contacts are searched for directly"),
+            // find_primitive turns other contacts away before any residual is computed.
+            _ => {}
         }
-        let depth = penetration_prepared(&self.fixed_pieces, &self.moving_pieces, &t, self.scale).depth;
+        let depth = self.scene.penetration_depth(&t);
         out.push(depth.max(0.0));
     }
 
@@ -358,8 +354,18 @@ impl<'a> Problem<'a> {
         (mlo - fhi).max(flo - mhi).max_element() > slack
     }
 
-    /// Searches for a witness of a primitive contact.
+    /// Searches for a witness of a primitive contact (f-v, e-e or v-f, with elements
+    /// of those kinds); any other contact gives [`Search::NotFound`] with no search.
     pub fn find_primitive(&self, target: &PrincipalContact, stats: &mut SearchStats) -> Search {
+        let primitive = matches!(
+            (target.kind, target.fixed, target.moving),
+            (ContactKind::FaceVertex, ElementId::Face(_), ElementId::Vertex(_))
+                | (ContactKind::VertexFace, ElementId::Vertex(_), ElementId::Face(_))
+                | (ContactKind::EdgeEdge, ElementId::Edge(_), ElementId::Edge(_))
+        );
+        if !primitive {
+            return Search::NotFound { others: Vec::new() };
+        }
         if self.unreachable(target) {
             stats.pruned += 1;
             return Search::Unreachable;
