@@ -14,6 +14,12 @@ pub const L_BLOCK_OFF: &str = include_str!("../../../fixtures/l_block.off");
 /// The box of [`L_BLOCK_OFF`]'s example.
 pub const BOX_OFF: &str = include_str!("../../../fixtures/box.off");
 
+/// A cube of side 10 with a corner at the origin (the moving part of
+/// [`cube_and_slab`]).
+pub const CUBE_OFF: &str = include_str!("../../../fixtures/cube.off");
+/// A large slab whose top face is the plane z = 0.
+pub const SLAB_OFF: &str = include_str!("../../../fixtures/slab.off");
+
 /// Builds a part from an embedded OFF text.
 ///
 /// # Panics
@@ -31,6 +37,21 @@ pub fn l_block_and_box() -> (Part, Part) {
         builtin("builtin:l_block.off", L_BLOCK_OFF),
         builtin("builtin:box.off", BOX_OFF),
     )
+}
+
+/// A large slab (fixed) and a cube (moving) resting on it at the identity pose.
+#[must_use]
+pub fn cube_and_slab() -> (Part, Part) {
+    (builtin("builtin:slab.off", SLAB_OFF), builtin("builtin:cube.off", CUBE_OFF))
+}
+
+/// The bounds of the built-in example, as in the paper's run: each rotation within
+/// ±π/10, x and y within ±5 mm, z from 0 to 240 mm (the models are the paper's size).
+#[must_use]
+pub fn paper_bounds() -> crate::pose::Bounds {
+    let r = std::f64::consts::PI / 10.0;
+    crate::pose::Bounds::try_new([-5.0, -5.0, 0.0, -r, -r, -r], [5.0, 5.0, 240.0, r, r, r])
+        .expect("the built-in bounds are valid")
 }
 
 /// A convex part with `faces` faces around a sphere of radius `radius` at the origin:

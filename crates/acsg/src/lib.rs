@@ -18,6 +18,7 @@ pub mod contact;
 pub mod convex;
 pub mod examples;
 pub mod feasibility;
+pub mod graph;
 pub mod io;
 pub mod model;
 pub mod pose;

@@ -4,96 +4,14 @@
 //! neither touch nor penetrate. The difference is built here by a brute-force convex
 //! hull that shares nothing with the library.
 
+mod common;
+
 use acsg::contact::{ContactKind, ContactScene, PrincipalContact};
-use acsg::io::MeshSoup;
 use acsg::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use acsg::tolerance::CONTACT_REL;
+use common::hull::{convex_part, hull_facets, random_points};
 use glam::{DAffine3, DVec3};
 use proptest::prelude::*;
-
-/// Hull facets of a point set in general position, as (outward unit normal, offset,
-/// indices of the points on the facet plane).
-fn hull_facets(points: &[DVec3], eps: f64) -> Vec<(DVec3, f64, Vec<usize>)> {
-    let mut facets: Vec<(DVec3, f64, Vec<usize>)> = Vec::new();
-    let n = points.len();
-    for i in 0..n {
-        for j in i + 1..n {
-            for k in j + 1..n {
-                let normal = (points[j] - points[i]).cross(points[k] - points[i]);
-                if normal.length() < 1e-9 {
-                    continue;
-                }
-                let normal = normal.normalize();
-                let side: Vec<f64> = points.iter().map(|p| normal.dot(*p - points[i])).collect();
-                let outward = if side.iter().all(|&s| s <= eps) {
-                    normal
-                } else if side.iter().all(|&s| s >= -eps) {
-                    -normal
-                } else {
-                    continue;
-                };
-                let offset = outward.dot(points[i]);
-                if facets
-                    .iter()
-                    .any(|(m, d, _)| m.distance(outward) < 1e-9 && (d - offset).abs() < eps)
-                {
-                    continue;
-                }
-                let on: Vec<usize> = (0..n)
-                    .filter(|&q| (outward.dot(points[q]) - offset).abs() <= eps)
-                    .collect();
-                facets.push((outward, offset, on));
-            }
-        }
-    }
-    facets
-}
-
-/// A convex part from the hull of points in general position (triangular facets).
-fn convex_part(points: &[DVec3], name: &str) -> Option<Part> {
-    let facets = hull_facets(points, 1e-9);
-    let mut polygons = Vec::new();
-    for (normal, _, on) in &facets {
-        if on.len() != 3 {
-            return None; // not in general position
-        }
-        let (a, b, c) = (on[0], on[1], on[2]);
-        let ccw = (points[b] - points[a]).cross(points[c] - points[a]).dot(*normal) > 0.0;
-        polygons.push(if ccw {
-            vec![a as u32, b as u32, c as u32]
-        } else {
-            vec![a as u32, c as u32, b as u32]
-        });
-    }
-    let soup = MeshSoup {
-        positions: points.to_vec(),
-        polygons,
-        polygon_lines: vec![],
-        polygon_noun: "face",
-    };
-    Part::try_new(&soup, name).ok()
-}
-
-fn random_points(seed: u64, count: usize, radius: f64) -> Vec<DVec3> {
-    let mut state = seed | 1;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..count)
-        .map(|_| {
-            let (u, v, r) = (
-                next() * std::f64::consts::TAU,
-                next() * 2.0 - 1.0,
-                radius * (0.6 + 0.4 * next()),
-            );
-            let s = (1.0 - v * v).sqrt();
-            DVec3::new(r * s * u.cos(), r * s * u.sin(), r * v)
-        })
-        .collect()
-}
 
 /// The element of a convex part spanned by the given points: a vertex, an edge or a face.
 fn element_spanned(part: &Part, pts: &[DVec3], normal: DVec3) -> Option<ElementId> {

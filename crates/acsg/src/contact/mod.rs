@@ -175,6 +175,7 @@ pub struct ContactReport {
 #[derive(Debug)]
 pub struct ContactScene<'a> {
     fixed: PlacedPart<'a>,
+    moving_local: PlacedPart<'a>,
     moving: &'a Part,
     fixed_elements: Vec<ElementId>,
     fixed_boxes: Vec<Bounds3>,
@@ -204,6 +205,7 @@ impl<'a> ContactScene<'a> {
             fixed_elements,
             fixed_boxes: boxes,
             moving_bvh: Bvh::new(&moving_boxes),
+            moving_local,
             moving_elements,
             fixed_pieces: penetration::PreparedPieces::new(fixed),
             moving_pieces: penetration::PreparedPieces::new(moving),
@@ -217,6 +219,14 @@ impl<'a> ContactScene<'a> {
     #[must_use]
     pub fn penetration_depth(&self, moving_to_fixed: &DAffine3) -> f64 {
         penetration::penetration_prepared(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed, self.scale).depth
+    }
+
+    /// The distance between the closures of two elements of one part (the fixed one
+    /// if `fixed`, else the moving one, in its own frame).
+    #[must_use]
+    pub fn distance_within(&self, fixed: bool, a: ElementId, b: ElementId) -> f64 {
+        let part = if fixed { &self.fixed } else { &self.moving_local };
+        touch::distance(part, a, part, b)
     }
 
     /// L: the larger bounding-box diagonal of the two parts.

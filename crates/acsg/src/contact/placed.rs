@@ -2,7 +2,7 @@
 //! moving part transformed per pose. Vertices and face planes are mapped eagerly (cheap);
 //! a face's loops and triangles only when a query needs that face.
 
-use std::cell::OnceCell;
+use std::sync::OnceLock;
 
 use glam::{DAffine3, DVec3};
 
@@ -24,7 +24,7 @@ pub(crate) struct PlacedPart<'a> {
     positions: Vec<DVec3>,
     normals: Vec<DVec3>,
     offsets: Vec<f64>,
-    faces: Vec<OnceCell<FacePoints>>,
+    faces: Vec<OnceLock<FacePoints>>,
 }
 
 impl<'a> PlacedPart<'a> {
@@ -46,7 +46,7 @@ impl<'a> PlacedPart<'a> {
             .zip(&normals)
             .map(|(f, n)| n.dot(positions[f.outer().vertices[0].index()]))
             .collect();
-        let faces = vec![OnceCell::new(); part.faces().len()];
+        let faces = vec![OnceLock::new(); part.faces().len()];
         PlacedPart {
             part,
             positions,

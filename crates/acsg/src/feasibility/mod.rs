@@ -12,13 +12,14 @@
 //!    asked for, with no penetration. A pose showing another state is reported as such.
 
 mod interval;
+mod residual;
 mod solver;
 
 use glam::{DAffine3, DVec3};
 
-use crate::contact::queries::{PlanarRegion, Segment, point_segment};
 use crate::contact::{ContactKind, ContactScene, PrincipalContact};
 use crate::model::{ElementId, FaceId, Part};
+use residual::{FaceShape, Margins, Side};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 
@@ -59,86 +60,6 @@ pub fn primitive_contacts(fixed: &Part, moving: &Part) -> Vec<PrincipalContact> 
     out
 }
 
-/// A face's plane and loops as points, in its part's own frame.
-#[derive(Clone, Debug)]
-struct FaceShape {
-    normal: DVec3,
-    offset: f64,
-    loops: Vec<Vec<DVec3>>,
-    /// A point well inside the face: the centroid of its largest triangle.
-    inner: DVec3,
-    /// The margin kept from the face's boundary: a quarter of its inradius scale,
-    /// at most the global margin.
-    margin: f64,
-}
-
-impl FaceShape {
-    fn all(part: &Part, margin: f64) -> Vec<FaceShape> {
-        part.faces()
-            .iter()
-            .map(|f| {
-                let at = |v: crate::model::VertexId| part.vertex(v).position;
-                let loops: Vec<Vec<DVec3>> = f
-                    .loops
-                    .iter()
-                    .map(|l| l.vertices.iter().map(|&v| at(v)).collect())
-                    .collect();
-                let (inner, _) = f
-                    .triangles
-                    .iter()
-                    .map(|t| {
-                        let [a, b, c] = t.map(at);
-                        ((a + b + c) / 3.0, (b - a).cross(c - a).length())
-                    })
-                    .fold(
-                        (at(f.outer().vertices[0]), -1.0),
-                        |best, x| if x.1 > best.1 { x } else { best },
-                    );
-                let perimeter: f64 = loops
-                    .iter()
-                    .flat_map(|l| (0..l.len()).map(move |i| l[i].distance(l[(i + 1) % l.len()])))
-                    .sum();
-                let width = if perimeter > 0.0 { 2.0 * f.area / perimeter } else { 0.0 };
-                FaceShape {
-                    normal: f.normal,
-                    offset: f.offset,
-                    loops,
-                    inner,
-                    margin: margin.min(0.25 * width),
-                }
-            })
-            .collect()
-    }
-
-    fn region(&self) -> PlanarRegion<'_> {
-        PlanarRegion {
-            normal: self.normal,
-            offset: self.offset,
-            loops: &self.loops,
-            triangles: &[],
-        }
-    }
-
-    /// How far inside the face's outline the projection of `p` lies (negative outside).
-    fn inside_depth(&self, p: DVec3) -> f64 {
-        let region = self.region();
-        let edge_distance = region
-            .boundary_segments()
-            .map(|s| point_segment(region.project(p), &s).0)
-            .fold(f64::INFINITY, f64::min);
-        if region.contains_projection(p) {
-            edge_distance
-        } else {
-            -edge_distance
-        }
-    }
-}
-
-/// Penalty keeping a value at least `margin` (hinge, zero when satisfied).
-fn hinge(value: f64, margin: f64) -> f64 {
-    (margin - value).max(0.0)
-}
-
 /// The outcome of a search for a pose realising a state.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Search {
@@ -157,8 +78,14 @@ pub enum Search {
 /// Counts of work done.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct SearchStats {
-    /// Targets pruned by the reach test.
+    /// Targets pruned by the reach test (an element cannot come near the other).
     pub pruned: usize,
+    /// Targets pruned by the orientation test (no rotation in the bounds puts a part
+    /// on the outer side of the other's face).
+    pub misoriented: usize,
+    /// Targets pruned by the rigid distance test (two contacts' points are too far
+    /// apart on one part and too close on the other).
+    pub incompatible: usize,
     /// Local optimisations run.
     pub optimisations: usize,
 }
@@ -172,7 +99,7 @@ pub struct Problem<'a> {
     scene: ContactScene<'a>,
     fixed_faces: Vec<FaceShape>,
     moving_faces: Vec<FaceShape>,
-    reach: interval::ReachBox,
+    enclosure: Enclosure,
     scale: f64,
     margin: f64,
 }
@@ -192,11 +119,17 @@ impl<'a> Problem<'a> {
             assembled,
             fixed_faces: FaceShape::all(fixed, margin),
             moving_faces: FaceShape::all(moving, margin),
-            reach: interval::ReachBox::new(&bounds),
+            enclosure: Enclosure::new(&bounds),
             scene,
             scale,
             margin,
         }
+    }
+
+    /// The misalignment bounds.
+    #[must_use]
+    pub fn bounds(&self) -> &Bounds {
+        &self.bounds
     }
 
     /// The contact scene of the two parts.
@@ -209,91 +142,45 @@ impl<'a> Problem<'a> {
         pose.to_affine(&self.assembled)
     }
 
-    /// The residuals of a primitive contact and of non-penetration at a pose.
-    fn residuals(&self, target: &PrincipalContact, pose: &Pose, out: &mut Vec<f64>) {
+    /// The residuals of a contact state and of non-penetration at a pose.
+    fn residuals(&self, target: &[PrincipalContact], pose: &Pose, out: &mut Vec<f64>) {
         out.clear();
         let t = self.placement(pose);
-        match (target.kind, target.fixed, target.moving) {
-            (ContactKind::FaceVertex, ElementId::Face(f), ElementId::Vertex(v)) => {
-                let p = t.transform_point3(self.moving.vertex(v).position);
-                let face = &self.fixed_faces[f.index()];
-                out.push(face.normal.dot(p) - face.offset);
-                out.push(hinge(face.inside_depth(p), face.margin));
-                // The vertex's neighbours rise off the face: B leaves the contact plane.
-                for w in neighbours(self.moving, v) {
-                    let q = t.transform_point3(w);
-                    out.push(hinge(face.normal.dot(q - p), self.clearance(p.distance(q))));
+        let to_b = t.inverse();
+        let (a, b) = (
+            Side {
+                part: self.fixed,
+                faces: &self.fixed_faces,
+            },
+            Side {
+                part: self.moving,
+                faces: &self.moving_faces,
+            },
+        );
+        let m = Margins { margin: self.margin };
+        for pc in target {
+            match (pc.fixed, pc.moving) {
+                (ElementId::Face(f), ElementId::Vertex(v)) => residual::face_vertex(a, f, b, v, &t, m, out),
+                (ElementId::Vertex(v), ElementId::Face(f)) => residual::face_vertex(b, f, a, v, &to_b, m, out),
+                (ElementId::Face(f), ElementId::Edge(e)) => residual::face_edge(a, f, b, e, &t, m, out),
+                (ElementId::Edge(e), ElementId::Face(f)) => residual::face_edge(b, f, a, e, &to_b, m, out),
+                (ElementId::Face(f), ElementId::Face(g)) => residual::face_face(a, f, b, g, &t, &to_b, out),
+                (ElementId::Edge(e), ElementId::Edge(x)) if pc.kind == ContactKind::EdgeEdgeTouch => {
+                    residual::edge_along_edge(a, e, b, x, &t, m, out);
                 }
+                (ElementId::Edge(e), ElementId::Edge(x)) => residual::edge_crossing(a, e, b, x, &t, m, out),
+                (ElementId::Edge(e), ElementId::Vertex(v)) => residual::edge_vertex(a, e, b, v, &t, m, out),
+                (ElementId::Vertex(v), ElementId::Edge(e)) => residual::edge_vertex(b, e, a, v, &to_b, m, out),
+                (ElementId::Vertex(v), ElementId::Vertex(w)) => residual::vertex_vertex(a, v, b, w, &t, out),
             }
-            (ContactKind::VertexFace, ElementId::Vertex(v), ElementId::Face(f)) => {
-                let to_b = t.inverse();
-                let q = to_b.transform_point3(self.fixed.vertex(v).position);
-                let face = &self.moving_faces[f.index()];
-                out.push(face.normal.dot(q) - face.offset);
-                out.push(hinge(face.inside_depth(q), face.margin));
-                // The vertex's neighbours in A lie beyond B's face (on A's side).
-                for w in neighbours(self.fixed, v) {
-                    let r = to_b.transform_point3(w);
-                    out.push(hinge(face.normal.dot(r - q), self.clearance(q.distance(r))));
-                }
-            }
-            (ContactKind::EdgeEdge, ElementId::Edge(e), ElementId::Edge(x)) => {
-                let [a0, a1] = self.fixed.edge_points(e);
-                let [b0, b1] = self.moving.edge_points(x).map(|p| t.transform_point3(p));
-                let (u, w) = (a1 - a0, b1 - b0);
-                let n = u.cross(w);
-                // Closest points of the two lines, as parameters along each edge.
-                let r = a0 - b0;
-                let (uu, uw, ww, ur, wr) = (u.dot(u), u.dot(w), w.dot(w), u.dot(r), w.dot(r));
-                let det = uu * ww - uw * uw;
-                let (s, v) = if det > 1e-12 * uu * ww {
-                    ((uw * wr - ww * ur) / det, (uu * wr - uw * ur) / det)
-                } else {
-                    (0.5, 0.5)
-                };
-                out.push(if n.length() > 1e-12 * u.length() * w.length() {
-                    n.normalize().dot(b0 - a0)
-                } else {
-                    point_segment(b0, &Segment::new(a0, a1)).0
-                });
-                let (mu, mw) = (
-                    (self.margin / u.length()).min(0.25),
-                    (self.margin / w.length()).min(0.25),
-                );
-                out.push(hinge(s, mu) + hinge(1.0 - s, mu));
-                out.push(hinge(v, mw) + hinge(1.0 - v, mw));
-                // The faces beside each edge fall away from the contact: along the
-                // common normal (outward from A at e), A's neighbouring corners lie
-                // below the contact and B's above it.
-                let [fa, ga] = self.fixed.edge(e).faces.map(|f| self.fixed.face(f).normal);
-                if n.length() > 0.0 {
-                    let n = n.normalize();
-                    let n = if n.dot(fa + ga) < 0.0 { -n } else { n };
-                    for w in edge_neighbours(self.fixed, e) {
-                        out.push(hinge(n.dot(a0 - w), self.clearance(a0.distance(w))));
-                    }
-                    for w in edge_neighbours(self.moving, x) {
-                        let q = t.transform_point3(w);
-                        out.push(hinge(n.dot(q - b0), self.clearance(b0.distance(q))));
-                    }
-                }
-            }
-            // find_primitive turns other contacts away before any residual is computed.
-            _ => {}
         }
         let depth = self.scene.penetration_depth(&t);
         out.push(depth.max(0.0));
     }
 
-    /// The clearance asked of a neighbouring corner at distance `d` from the contact:
-    /// the margin, or a fraction of `d` for short edges.
-    fn clearance(&self, d: f64) -> f64 {
-        self.margin.min(0.25 * d)
-    }
-
-    /// Starting poses that put the contact point in place, for several orientations
-    /// spread over the bounds.
-    fn starts(&self, target: &PrincipalContact) -> Vec<Pose> {
+    /// Starting poses that put the anchor contact's points together, for up to `count`
+    /// orientations spread over the bounds (the centre first, then the octants).
+    fn starts(&self, anchor: &PrincipalContact, count: usize) -> Vec<Pose> {
         let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
         let mut orientations = vec![[0.5, 0.5, 0.5]];
         for corner in 0..8 {
@@ -304,27 +191,16 @@ impl<'a> Problem<'a> {
             ]);
         }
         let g_inverse = self.assembled.inverse();
+        // Where the contact point should go (A's frame) and which point of B it is.
+        let goal = anchor_point(self.fixed, &self.fixed_faces, anchor.fixed);
+        let on_b = anchor_point(self.moving, &self.moving_faces, anchor.moving);
         orientations
             .into_iter()
+            .take(count)
             .map(|w| {
                 let angle = |k: usize| lo[3 + k] + (hi[3 + k] - lo[3 + k]) * w[k];
                 let mut pose = Pose::from_array([0.0, 0.0, 0.0, angle(0), angle(1), angle(2)]);
-                let r = pose.rotation();
-                // Where the contact point should go (A's frame) and which point of B it is.
-                let (goal, on_b) = match (target.fixed, target.moving) {
-                    (ElementId::Face(f), ElementId::Vertex(v)) => {
-                        (self.fixed_faces[f.index()].inner, self.moving.vertex(v).position)
-                    }
-                    (ElementId::Vertex(v), ElementId::Face(f)) => {
-                        (self.fixed.vertex(v).position, self.moving_faces[f.index()].inner)
-                    }
-                    (ElementId::Edge(e), ElementId::Edge(x)) => {
-                        let ([a0, a1], [b0, b1]) = (self.fixed.edge_points(e), self.moving.edge_points(x));
-                        ((a0 + a1) * 0.5, (b0 + b1) * 0.5)
-                    }
-                    _ => (DVec3::ZERO, DVec3::ZERO),
-                };
-                let t = g_inverse.transform_point3(goal) - r * on_b;
+                let t = g_inverse.transform_point3(goal) - pose.rotation() * on_b;
                 pose.x = t.x;
                 pose.y = t.y;
                 pose.z = t.z;
@@ -335,7 +211,7 @@ impl<'a> Problem<'a> {
 
     /// Whether the reach test rules the contact out: over every pose in the bounds, the
     /// moving element's box stays away from the fixed element's box.
-    fn unreachable(&self, target: &PrincipalContact) -> bool {
+    fn unreachable(&self, target: &PrincipalContact, enclosure: &Enclosure) -> bool {
         if self.assembled != DAffine3::IDENTITY {
             return false; // the enclosure assumes G = identity
         }
@@ -343,7 +219,7 @@ impl<'a> Problem<'a> {
         let moving_box = |e: ElementId| {
             points_of(self.moving, e)
                 .into_iter()
-                .map(|p| self.reach.of(p))
+                .map(|p| enclosure.reach.of(p))
                 .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| {
                     (lo.min(a), hi.max(b))
                 })
@@ -354,39 +230,224 @@ impl<'a> Problem<'a> {
         (mlo - fhi).max(flo - mhi).max_element() > slack
     }
 
-    /// Searches for a witness of a primitive contact (f-v, e-e or v-f, with elements
-    /// of those kinds); any other contact gives [`Search::NotFound`] with no search.
-    pub fn find_primitive(&self, target: &PrincipalContact, stats: &mut SearchStats) -> Search {
-        let primitive = matches!(
-            (target.kind, target.fixed, target.moving),
-            (ContactKind::FaceVertex, ElementId::Face(_), ElementId::Vertex(_))
-                | (ContactKind::VertexFace, ElementId::Vertex(_), ElementId::Face(_))
-                | (ContactKind::EdgeEdge, ElementId::Edge(_), ElementId::Edge(_))
-        );
-        if !primitive {
-            return Search::NotFound { others: Vec::new() };
+    /// Whether cheap conservative tests prove that no pose in the bounds realises the
+    /// target: the rigid distance test, then the reach and orientation tests over the
+    /// bounds, bisected a limited number of times (a box of poses is dropped when one
+    /// contact fails in it; the target is excluded when every box is dropped).
+    fn excluded(&self, target: &[PrincipalContact]) -> Option<Exclusion> {
+        if !self.rigidly_compatible(target) {
+            return Some(Exclusion::Incompatible);
         }
-        if self.unreachable(target) {
-            stats.pruned += 1;
+        if self.assembled != DAffine3::IDENTITY {
+            return None; // the enclosures assume G = identity
+        }
+        let test = |enclosure: &Enclosure| -> Option<Exclusion> {
+            if target.iter().any(|pc| self.unreachable(pc, enclosure)) {
+                Some(Exclusion::Unreachable)
+            } else if target.iter().any(|pc| !self.orientable(pc, enclosure)) {
+                Some(Exclusion::Misoriented)
+            } else {
+                None
+            }
+        };
+        let first = test(&self.enclosure);
+        if first.is_some() {
+            return first;
+        }
+        let mut boxes = vec![self.bounds];
+        let mut budget = BISECTION_BUDGET;
+        while let Some(b) = boxes.pop() {
+            if budget == 0 {
+                return None;
+            }
+            budget -= 1;
+            if test(&Enclosure::new(&b)).is_some() {
+                continue;
+            }
+            // Split the widest component, angles weighted by L (their arc at the part).
+            let (lo, hi) = (b.min.to_array(), b.max.to_array());
+            let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { self.scale };
+            let k = (0..6).max_by(|&i, &j| weight(i).total_cmp(&weight(j))).unwrap_or(0);
+            if weight(k) <= 0.0 {
+                return None;
+            }
+            let mid = 0.5 * (lo[k] + hi[k]);
+            let (mut upper_lo, mut lower_hi) = (lo, hi);
+            upper_lo[k] = mid;
+            lower_hi[k] = mid;
+            for (l, h) in [(lo, lower_hi), (upper_lo, hi)] {
+                if let Ok(half) = Bounds::try_new(l, h) {
+                    boxes.push(half);
+                }
+            }
+        }
+        Some(Exclusion::Unreachable)
+    }
+
+    /// Whether some rotation in the bounds can put each part on the outer side of the
+    /// other's face at a contact involving a face: the other part's edges leaving the
+    /// contact must be able to point out of the face, its edges in the contact to lie
+    /// along the face, and a face in contact to face the other way. Conservative
+    /// (interval arithmetic over the rotation bounds): `false` proves infeasibility.
+    fn orientable(&self, pc: &PrincipalContact, enclosure: &Enclosure) -> bool {
+        if self.assembled != DAffine3::IDENTITY {
+            return true; // the enclosure assumes G = identity
+        }
+        let slack = 1e-9;
+        // n · (R d) over the bounds, for n in A's frame and d in B's frame.
+        let range = |n: DVec3, d: DVec3| {
+            let (lo, hi) = enclosure.turn.of(d);
+            let (mut min, mut max) = (0.0, 0.0);
+            for k in 0..3 {
+                let (a, b) = (n[k] * lo[k], n[k] * hi[k]);
+                min += a.min(b);
+                max += a.max(b);
+            }
+            (min, max)
+        };
+        let leaving = |part: &Part, e: ElementId| -> Vec<DVec3> {
+            let inside = closure_vertices(part, e);
+            inside
+                .iter()
+                .flat_map(|&v| {
+                    part.vertex(v).edges.iter().filter_map(move |&x| {
+                        let [a, b] = part.edge(x).vertices;
+                        let w = if a == v { b } else { a };
+                        (!closure_has_edge(part, e, x)).then(|| (part.vertex(w).position - part.vertex(v).position).normalize())
+                    })
+                })
+                .collect()
+        };
+        let within = |part: &Part, e: ElementId| -> Vec<DVec3> {
+            closure_edges(part, e)
+                .into_iter()
+                .map(|x| {
+                    let [a, b] = part.edge_points(x);
+                    (b - a).normalize()
+                })
+                .collect()
+        };
+        match (pc.fixed, pc.moving) {
+            (ElementId::Face(f), b) => {
+                let n = self.fixed.face(f).normal;
+                let out_ok = leaving(self.moving, b).into_iter().all(|d| range(n, d).1 >= -slack);
+                let along_ok = within(self.moving, b)
+                    .into_iter()
+                    .all(|d| range(n, d).0 <= slack && range(n, d).1 >= -slack);
+                let facing_ok = match b {
+                    ElementId::Face(g) => range(n, self.moving.face(g).normal).0 <= -1.0 + slack,
+                    _ => true,
+                };
+                out_ok && along_ok && facing_ok
+            }
+            (a, ElementId::Face(g)) => {
+                // In B's frame: A's directions d against R n_g, i.e. d · (R n_g).
+                let n = self.moving.face(g).normal;
+                let out_ok = leaving(self.fixed, a).into_iter().all(|d| range(d, n).1 >= -slack);
+                let along_ok = within(self.fixed, a)
+                    .into_iter()
+                    .all(|d| range(d, n).0 <= slack && range(d, n).1 >= -slack);
+                out_ok && along_ok
+            }
+            _ => true,
+        }
+    }
+
+    /// Whether every two contacts of a target can hold together on a rigid body: the
+    /// distance between their contact points is bounded on A by the distance range of
+    /// A's elements and on B by B's; the two ranges must meet.
+    fn rigidly_compatible(&self, target: &[PrincipalContact]) -> bool {
+        let slack = scaled(1e3 * CONTACT_REL, self.scale);
+        let range = |fixed: bool, a: ElementId, b: ElementId| {
+            let part = if fixed { self.fixed } else { self.moving };
+            let min = self.scene.distance_within(fixed, a, b);
+            let max = closure_vertices(part, a)
+                .iter()
+                .flat_map(|&v| {
+                    closure_vertices(part, b)
+                        .into_iter()
+                        .map(move |w| part.vertex(v).position.distance(part.vertex(w).position))
+                })
+                .fold(0.0, f64::max);
+            (min, max)
+        };
+        for (i, c1) in target.iter().enumerate() {
+            for c2 in &target[i + 1..] {
+                let (amin, amax) = range(true, c1.fixed, c2.fixed);
+                let (bmin, bmax) = range(false, c1.moving, c2.moving);
+                if amin > bmax + slack || bmin > amax + slack {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// The contact state at a pose if the pose is a clean witness of it: inside the
+    /// bounds, no penetration, some contact, and every pair that does not touch at least
+    /// the separation tolerance apart. This is the independent check every reported
+    /// witness passes (the contact module's P(X), not the optimiser's residuals).
+    #[must_use]
+    pub fn verify(&self, pose: &Pose) -> Option<Vec<PrincipalContact>> {
+        let angle_tol = 1e-12;
+        if !self.bounds.contains(pose, scaled(CONTACT_REL, self.scale), angle_tol) {
+            return None;
+        }
+        let report = self.scene.evaluate(&self.placement(pose), CONTACT_REL);
+        let clear = report.min_gap.is_none_or(|g| g >= scaled(SEPARATION_REL, self.scale));
+        (report.penetration == 0.0 && !report.contacts.is_empty() && clear).then_some(report.contacts)
+    }
+
+    /// Searches for a witness of a contact state (its contacts sorted): first from the
+    /// warm starts, then from `constructive` starts that place the anchor contact's
+    /// points together. Poses that verify as other states are returned with
+    /// [`Search::NotFound`] so that they are not lost.
+    pub fn find(
+        &self,
+        target: &[PrincipalContact],
+        warm: &[Pose],
+        anchor: &PrincipalContact,
+        constructive: usize,
+        stats: &mut SearchStats,
+    ) -> Search {
+        match self.excluded(target) {
+            Some(Exclusion::Unreachable) => stats.pruned += 1,
+            Some(Exclusion::Misoriented) => stats.misoriented += 1,
+            Some(Exclusion::Incompatible) => stats.incompatible += 1,
+            None => {}
+        }
+        if stats.pruned + stats.misoriented + stats.incompatible > 0 {
             return Search::Unreachable;
         }
         let mut others: Vec<(Vec<PrincipalContact>, Pose)> = Vec::new();
-        for start in self.starts(target) {
+        let starts = warm.iter().copied().chain(self.starts(anchor, constructive));
+        for start in starts {
             stats.optimisations += 1;
             let pose = solver::minimise(|x, out| self.residuals(target, x, out), start, &self.bounds, self.scale);
-            let report = self.scene.evaluate(&self.placement(&pose), CONTACT_REL);
-            let clear = report.min_gap.is_none_or(|g| g >= scaled(SEPARATION_REL, self.scale));
-            if report.penetration > 0.0 || report.contacts.is_empty() || !clear {
-                continue;
-            }
-            if report.contacts == [*target] {
+            let Some(state) = self.verify(&pose) else { continue };
+            if state == target {
                 return Search::Found(pose);
             }
-            if !others.iter().any(|(state, _)| *state == report.contacts) {
-                others.push((report.contacts, pose));
+            if !others.iter().any(|(known, _)| *known == state) {
+                others.push((state, pose));
             }
         }
+        if std::env::var("ACSG_DEBUG").is_ok() {
+            let mut r = Vec::new();
+            let pose = solver::minimise(|x, out| self.residuals(target, x, out), warm.first().copied().unwrap_or_else(|| self.starts(anchor, 1)[0]), &self.bounds, self.scale);
+            self.residuals(target, &pose, &mut r);
+            eprintln!("NOTFOUND {:?} residuals {:?}", target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>(), r.iter().map(|x| format!("{x:.2e}")).collect::<Vec<_>>());
+        }
         Search::NotFound { others }
+    }
+
+    /// Searches for a witness of a primitive contact (f-v, e-e or v-f, with elements
+    /// of those kinds); any other contact gives [`Search::NotFound`] with no search.
+    pub fn find_primitive(&self, target: &PrincipalContact, stats: &mut SearchStats) -> Search {
+        if !is_primitive(target) {
+            return Search::NotFound { others: Vec::new() };
+        }
+        self.find(&[*target], &[], target, 9, stats)
     }
 
     /// Stage 1: every primitive contact with a verified witness.
@@ -402,34 +463,93 @@ impl<'a> Problem<'a> {
     }
 }
 
-/// The other end points of the edges at a vertex.
-fn neighbours(part: &Part, v: crate::model::VertexId) -> Vec<DVec3> {
-    part.vertex(v)
-        .edges
-        .iter()
-        .map(|&e| {
-            let [a, b] = part.edge(e).vertices;
-            part.vertex(if a == v { b } else { a }).position
-        })
-        .collect()
+/// Boxes a target's exclusion may examine before the optimiser is called.
+const BISECTION_BUDGET: usize = 48;
+
+/// Why a target was excluded without optimising.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Exclusion {
+    Unreachable,
+    Misoriented,
+    Incompatible,
 }
 
-/// The corners of an edge's two faces that are not on the edge, next to its ends.
-fn edge_neighbours(part: &Part, e: crate::model::EdgeId) -> Vec<DVec3> {
-    let ends = part.edge(e).vertices;
-    ends.iter()
-        .flat_map(|&v| {
-            part.vertex(v)
-                .edges
-                .iter()
-                .filter(move |&&x| x != e)
-                .map(move |&x| (v, x))
-        })
-        .map(|(v, x)| {
-            let [a, b] = part.edge(x).vertices;
-            part.vertex(if a == v { b } else { a }).position
-        })
-        .collect()
+/// Interval enclosures of the moving part's points and directions over a box of poses.
+#[derive(Clone, Debug)]
+struct Enclosure {
+    reach: interval::ReachBox,
+    /// Rotation only, for directions.
+    turn: interval::ReachBox,
+}
+
+impl Enclosure {
+    fn new(bounds: &Bounds) -> Enclosure {
+        Enclosure {
+            reach: interval::ReachBox::new(bounds),
+            turn: interval::ReachBox::new(&rotation_only(bounds)),
+        }
+    }
+}
+
+/// The bounds with the translation fixed at zero.
+fn rotation_only(bounds: &Bounds) -> Bounds {
+    let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
+    for k in 0..3 {
+        lo[k] = 0.0;
+        hi[k] = 0.0;
+    }
+    Bounds::try_new(lo, hi).unwrap_or(*bounds)
+}
+
+/// The vertices in an element's closure.
+fn closure_vertices(part: &Part, e: ElementId) -> Vec<crate::model::VertexId> {
+    match e {
+        ElementId::Vertex(v) => vec![v],
+        ElementId::Edge(x) => part.edge(x).vertices.to_vec(),
+        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.vertices.clone()).collect(),
+    }
+}
+
+/// The edges in an element's closure.
+fn closure_edges(part: &Part, e: ElementId) -> Vec<crate::model::EdgeId> {
+    match e {
+        ElementId::Vertex(_) => Vec::new(),
+        ElementId::Edge(x) => vec![x],
+        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.edges.clone()).collect(),
+    }
+}
+
+fn closure_has_edge(part: &Part, e: ElementId, x: crate::model::EdgeId) -> bool {
+    match e {
+        ElementId::Vertex(_) => false,
+        ElementId::Edge(y) => x == y,
+        ElementId::Face(f) => part.edge(x).faces.contains(&f),
+    }
+}
+
+/// Whether a contact is of a primitive kind (f-v, v-f or e-e) between elements of the
+/// matching dimensions.
+#[must_use]
+pub fn is_primitive(pc: &PrincipalContact) -> bool {
+    matches!(
+        (pc.kind, pc.fixed, pc.moving),
+        (ContactKind::FaceVertex, ElementId::Face(_), ElementId::Vertex(_))
+            | (ContactKind::VertexFace, ElementId::Vertex(_), ElementId::Face(_))
+            | (ContactKind::EdgeEdge, ElementId::Edge(_), ElementId::Edge(_))
+    )
+}
+
+/// A representative point of an element: a face's inner point, an edge's midpoint, a
+/// vertex.
+fn anchor_point(part: &Part, faces: &[FaceShape], e: ElementId) -> DVec3 {
+    match e {
+        ElementId::Face(f) => faces[f.index()].inner,
+        ElementId::Edge(x) => {
+            let [a, b] = part.edge_points(x);
+            (a + b) * 0.5
+        }
+        ElementId::Vertex(v) => part.vertex(v).position,
+    }
 }
 
 fn points_of(part: &Part, e: ElementId) -> Vec<DVec3> {

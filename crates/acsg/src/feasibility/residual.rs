@@ -1,0 +1,280 @@
+//! Residuals of principal contacts at a pose: each vanishes exactly when its contact
+//! holds with the contact region inside both elements' relative interiors (with a
+//! margin) and the elements next to a point contact fall away from it.
+//!
+//! Every function works in the frame of the first element's part, with the second
+//! part's points brought in by `map`; mirrored kinds (v-f against f-v) call the same
+//! function with the parts swapped.
+
+use glam::{DAffine3, DVec3};
+
+use crate::contact::queries::{PlanarRegion, Segment, point_segment};
+use crate::model::{EdgeId, FaceId, Part, VertexId};
+
+/// A face's plane and loops as points, in its part's own frame.
+#[derive(Clone, Debug)]
+pub(crate) struct FaceShape {
+    pub normal: DVec3,
+    pub offset: f64,
+    pub loops: Vec<Vec<DVec3>>,
+    /// A point well inside the face: the centroid of its largest triangle.
+    pub inner: DVec3,
+    /// Points spread over the face's interior (for overlap tests of two faces).
+    pub samples: Vec<DVec3>,
+    /// The margin kept from the face's boundary: a quarter of its width scale, at most
+    /// the global margin.
+    pub margin: f64,
+}
+
+impl FaceShape {
+    pub fn all(part: &Part, margin: f64) -> Vec<FaceShape> {
+        part.faces()
+            .iter()
+            .map(|f| {
+                let at = |v: VertexId| part.vertex(v).position;
+                let loops: Vec<Vec<DVec3>> = f
+                    .loops
+                    .iter()
+                    .map(|l| l.vertices.iter().map(|&v| at(v)).collect())
+                    .collect();
+                let mut samples = Vec::new();
+                let mut inner = (at(f.outer().vertices[0]), -1.0);
+                for t in &f.triangles {
+                    let [a, b, c] = t.map(at);
+                    let centroid = (a + b + c) / 3.0;
+                    let area = (b - a).cross(c - a).length();
+                    if area > inner.1 {
+                        inner = (centroid, area);
+                    }
+                    samples.push(centroid);
+                    samples.extend([(a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5].map(|m| (m + centroid) * 0.5));
+                }
+                let perimeter: f64 = loops
+                    .iter()
+                    .flat_map(|l| (0..l.len()).map(move |i| l[i].distance(l[(i + 1) % l.len()])))
+                    .sum();
+                let width = if perimeter > 0.0 { 2.0 * f.area / perimeter } else { 0.0 };
+                FaceShape {
+                    normal: f.normal,
+                    offset: f.offset,
+                    loops,
+                    inner: inner.0,
+                    samples,
+                    margin: margin.min(0.25 * width),
+                }
+            })
+            .collect()
+    }
+
+    fn region(&self) -> PlanarRegion<'_> {
+        PlanarRegion {
+            normal: self.normal,
+            offset: self.offset,
+            loops: &self.loops,
+            triangles: &[],
+        }
+    }
+
+    fn plane_distance(&self, p: DVec3) -> f64 {
+        self.normal.dot(p) - self.offset
+    }
+
+    /// How far inside the face's outline the projection of `p` lies (negative outside).
+    pub fn inside_depth(&self, p: DVec3) -> f64 {
+        let region = self.region();
+        let edge_distance = region
+            .boundary_segments()
+            .map(|s| point_segment(region.project(p), &s).0)
+            .fold(f64::INFINITY, f64::min);
+        if region.contains_projection(p) {
+            edge_distance
+        } else {
+            -edge_distance
+        }
+    }
+}
+
+/// Penalty keeping a value at least `margin` (hinge, zero when satisfied).
+pub(crate) fn hinge(value: f64, margin: f64) -> f64 {
+    (margin - value).max(0.0)
+}
+
+/// One part's side of a contact: the part, its face shapes, and the map taking the
+/// other part's points into this part's frame (with its inverse).
+#[derive(Clone, Copy)]
+pub(crate) struct Side<'p> {
+    pub part: &'p Part,
+    pub faces: &'p [FaceShape],
+}
+
+/// The working margins: the global interior margin and how much clearance a
+/// neighbouring corner at distance `d` must keep.
+#[derive(Clone, Copy)]
+pub(crate) struct Margins {
+    pub margin: f64,
+}
+
+impl Margins {
+    fn clearance(self, d: f64) -> f64 {
+        self.margin.min(0.25 * d)
+    }
+    fn along(self, length: f64) -> f64 {
+        (self.margin / length).min(0.25)
+    }
+}
+
+/// A face of `a` against a vertex of `b`: the vertex on the plane, inside the face, its
+/// neighbours rising off the plane.
+pub(crate) fn face_vertex(a: Side, f: FaceId, b: Side, v: VertexId, map: &DAffine3, m: Margins, out: &mut Vec<f64>) {
+    let face = &a.faces[f.index()];
+    let p = map.transform_point3(b.part.vertex(v).position);
+    out.push(face.plane_distance(p));
+    out.push(hinge(face.inside_depth(p), face.margin));
+    for w in neighbours(b.part, v) {
+        let q = map.transform_point3(w);
+        out.push(hinge(face.normal.dot(q - p), m.clearance(p.distance(q))));
+    }
+}
+
+/// A face of `a` against an edge of `b`: both ends on the plane, part of the edge inside
+/// the face, the edge's faces rising off the plane.
+pub(crate) fn face_edge(a: Side, f: FaceId, b: Side, e: EdgeId, map: &DAffine3, m: Margins, out: &mut Vec<f64>) {
+    let face = &a.faces[f.index()];
+    let [p0, p1] = b.part.edge_points(e).map(|p| map.transform_point3(p));
+    out.push(face.plane_distance(p0));
+    out.push(face.plane_distance(p1));
+    let deepest = (1..10)
+        .map(|k| face.inside_depth(p0.lerp(p1, f64::from(k) / 10.0)))
+        .fold(f64::NEG_INFINITY, f64::max);
+    out.push(hinge(deepest, face.margin));
+    for w in edge_neighbours(b.part, e) {
+        let q = map.transform_point3(w);
+        let d = point_segment(q, &Segment::new(p0, p1)).0;
+        out.push(hinge(face.plane_distance(q), m.clearance(d)));
+    }
+}
+
+/// A face of `a` against a face of `b`: `b`'s face in the plane, the two overlapping
+/// over an area.
+pub(crate) fn face_face(a: Side, f: FaceId, b: Side, g: FaceId, map: &DAffine3, back: &DAffine3, out: &mut Vec<f64>) {
+    let (face, other) = (&a.faces[f.index()], &b.faces[g.index()]);
+    for p in other.loops.iter().flatten() {
+        out.push(face.plane_distance(map.transform_point3(*p)));
+    }
+    let depth_in_both = |p_a: DVec3, p_b: DVec3| face.inside_depth(p_a).min(other.inside_depth(p_b));
+    let deepest = other
+        .samples
+        .iter()
+        .map(|&p| depth_in_both(map.transform_point3(p), p))
+        .chain(face.samples.iter().map(|&p| depth_in_both(p, back.transform_point3(p))))
+        .fold(f64::NEG_INFINITY, f64::max);
+    out.push(hinge(deepest, face.margin.min(other.margin)));
+}
+
+/// Two edges crossing at one point inside both, each edge's faces falling away from the
+/// other edge. `a`'s frame; `b`'s points mapped by `map`.
+pub(crate) fn edge_crossing(a: Side, e: EdgeId, b: Side, x: EdgeId, map: &DAffine3, m: Margins, out: &mut Vec<f64>) {
+    let [a0, a1] = a.part.edge_points(e);
+    let [b0, b1] = b.part.edge_points(x).map(|p| map.transform_point3(p));
+    let (u, w) = (a1 - a0, b1 - b0);
+    let n = u.cross(w);
+    // Closest points of the two lines, as parameters along each edge.
+    let r = a0 - b0;
+    let (uu, uw, ww, ur, wr) = (u.dot(u), u.dot(w), w.dot(w), u.dot(r), w.dot(r));
+    let det = uu * ww - uw * uw;
+    let (s, v) = if det > 1e-12 * uu * ww {
+        ((uw * wr - ww * ur) / det, (uu * wr - uw * ur) / det)
+    } else {
+        (0.5, 0.5)
+    };
+    out.push(if n.length() > 1e-12 * u.length() * w.length() {
+        n.normalize().dot(b0 - a0)
+    } else {
+        point_segment(b0, &Segment::new(a0, a1)).0
+    });
+    let (mu, mw) = (m.along(u.length()), m.along(w.length()));
+    out.push(hinge(s, mu) + hinge(1.0 - s, mu));
+    out.push(hinge(v, mw) + hinge(1.0 - v, mw));
+    // Along the common normal (outward from `a` at e), `a`'s neighbouring corners lie
+    // below the contact and `b`'s above it.
+    let [fa, ga] = a.part.edge(e).faces.map(|f| a.part.face(f).normal);
+    if n.length() > 0.0 {
+        let n = n.normalize();
+        let n = if n.dot(fa + ga) < 0.0 { -n } else { n };
+        for q in edge_neighbours(a.part, e) {
+            out.push(hinge(n.dot(a0 - q), m.clearance(a0.distance(q))));
+        }
+        for q in edge_neighbours(b.part, x) {
+            let q = map.transform_point3(q);
+            out.push(hinge(n.dot(q - b0), m.clearance(b0.distance(q))));
+        }
+    }
+}
+
+/// Two directions perpendicular to `d` (unit length, orthogonal to each other).
+fn perpendiculars(d: DVec3) -> [DVec3; 2] {
+    let d = d.normalize_or_zero();
+    let p = d.any_orthonormal_vector();
+    [p, d.cross(p)]
+}
+
+/// An edge of `a` against a vertex of `b`: the vertex on the edge's line, inside it.
+pub(crate) fn edge_vertex(a: Side, e: EdgeId, b: Side, v: VertexId, map: &DAffine3, m: Margins, out: &mut Vec<f64>) {
+    let [a0, a1] = a.part.edge_points(e);
+    let p = map.transform_point3(b.part.vertex(v).position);
+    let d = a1 - a0;
+    out.extend(perpendiculars(d).map(|n| n.dot(p - a0)));
+    let s = d.dot(p - a0) / d.length_squared();
+    let margin = m.along(d.length());
+    out.push(hinge(s, margin) + hinge(1.0 - s, margin));
+}
+
+/// Collinear edges overlapping along a segment.
+pub(crate) fn edge_along_edge(a: Side, e: EdgeId, b: Side, x: EdgeId, map: &DAffine3, m: Margins, out: &mut Vec<f64>) {
+    let [a0, a1] = a.part.edge_points(e);
+    let ends = b.part.edge_points(x).map(|p| map.transform_point3(p));
+    let d = a1 - a0;
+    let across = perpendiculars(d);
+    for p in ends {
+        out.extend(across.map(|n| n.dot(p - a0)));
+    }
+    let [s0, s1] = ends.map(|p| d.dot(p - a0) / d.length_squared());
+    let overlap = s0.max(s1).min(1.0) - s0.min(s1).max(0.0);
+    out.push(hinge(overlap, m.along(d.length())));
+}
+
+/// Vertex on vertex.
+pub(crate) fn vertex_vertex(a: Side, v: VertexId, b: Side, w: VertexId, map: &DAffine3, out: &mut Vec<f64>) {
+    let gap = map.transform_point3(b.part.vertex(w).position) - a.part.vertex(v).position;
+    out.extend(gap.to_array());
+}
+
+/// The other end points of the edges at a vertex.
+pub(crate) fn neighbours(part: &Part, v: VertexId) -> Vec<DVec3> {
+    part.vertex(v)
+        .edges
+        .iter()
+        .map(|&e| {
+            let [a, b] = part.edge(e).vertices;
+            part.vertex(if a == v { b } else { a }).position
+        })
+        .collect()
+}
+
+/// The corners of an edge's two faces that are not on the edge, next to its ends.
+pub(crate) fn edge_neighbours(part: &Part, e: EdgeId) -> Vec<DVec3> {
+    let ends = part.edge(e).vertices;
+    ends.iter()
+        .flat_map(|&v| {
+            part.vertex(v)
+                .edges
+                .iter()
+                .filter(move |&&x| x != e)
+                .map(move |&x| (v, x))
+        })
+        .map(|(v, x)| {
+            let [a, b] = part.edge(x).vertices;
+            part.vertex(if a == v { b } else { a }).position
+        })
+        .collect()
+}

@@ -1,0 +1,443 @@
+//! The Assembly Contact State Graph: every contact state that some pose within the
+//! bounds shows (DOMAIN.md section 4), each with a verified witness, and the neighbour
+//! relation between them.
+//!
+//! The generator follows the paper's two stages:
+//! 1. every primitive principal contact (PPC) is tested for feasibility
+//!    ([`Problem::find_primitive`](crate::feasibility::Problem::find_primitive));
+//! 2. breadth first, each state is grown by one feasible PPC it does not imply; the
+//!    combination is mapped by the derived rules ([`rules::grow`]), pruned when it
+//!    cannot exist or is already known, and otherwise searched for with warm starts
+//!    from the parent's and the PPC's witnesses.
+//!
+//! A state's identity is P(X) at its witness: a search that lands on a pose showing
+//! another state records that state (if new). Every witness is verified by the contact
+//! module before the state is kept. Candidates of one breadth-first level are searched
+//! in parallel and merged in a fixed order, so the output does not depend on the
+//! number of threads.
+
+mod dof;
+pub mod rules;
+
+use std::collections::{BTreeSet, HashMap};
+use std::time::Instant;
+
+use glam::DAffine3;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::contact::PrincipalContact;
+use crate::feasibility::{Problem, Search, SearchStats, is_primitive, primitive_contacts};
+use crate::model::Part;
+use crate::pose::{Bounds, Pose};
+use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
+
+pub use dof::state_dof;
+
+/// How to generate a graph.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Keep states with a degenerate contact (v-v, e-v, v-e, e-e-t between convex
+    /// elements), which hold only on a set any small motion leaves.
+    pub degenerate: bool,
+    /// G: the assembled pose of the moving part in the fixed part's frame.
+    pub assembled: DAffine3,
+    /// Worker threads; 0 uses rayon's default (one per core).
+    pub threads: usize,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            degenerate: false,
+            assembled: DAffine3::IDENTITY,
+            threads: 0,
+        }
+    }
+}
+
+/// One contact state of the graph.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    /// Its index in [`Graph::states`]; 0 is free space.
+    pub id: usize,
+    /// P(X) at the witness: its principal contacts, sorted.
+    pub contacts: Vec<PrincipalContact>,
+    /// Degrees of freedom left at the witness (6 in free space).
+    pub dof: u8,
+    /// Whether one of its contacts is degenerate.
+    pub degenerate: bool,
+    /// A pose within the bounds showing exactly this state, verified. Free space has
+    /// one when some probed pose in the bounds touches nothing.
+    pub witness: Option<Pose>,
+}
+
+/// Counts and times of a run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Stats {
+    /// card(PPC): every primitive principal contact.
+    pub ppc: usize,
+    /// PPCs ruled out by the reach test without optimising.
+    pub ppc_unreachable: usize,
+    /// Feasible PPCs.
+    pub feasible_ppc: usize,
+    /// Optimisations in stage 1.
+    pub stage1_optimisations: usize,
+    /// Stage-2 pairs (state, feasible PPC) considered.
+    pub stage2_pairs: usize,
+    /// Pairs where the state already implies the PPC.
+    pub pruned_implied: usize,
+    /// Pairs ruled out by topological existence.
+    pub pruned_topology: usize,
+    /// Candidate states left out because they hold a degenerate contact.
+    pub pruned_degenerate: usize,
+    /// Candidate states already known or already searched.
+    pub pruned_duplicate: usize,
+    /// Candidates ruled out by the reach test.
+    pub pruned_unreachable: usize,
+    /// Candidates searched by optimisation.
+    pub stage2_candidates: usize,
+    /// Optimisations in stage 2.
+    pub stage2_optimisations: usize,
+    /// States found while searching for another.
+    pub found_on_the_way: usize,
+    /// Candidates for which no witness was found.
+    pub infeasible: usize,
+    /// States, free space included.
+    pub states: usize,
+    /// Neighbour edges.
+    pub edges: usize,
+    /// Seconds in stage 1.
+    pub stage1_seconds: f64,
+    /// Seconds in stage 2 (with the neighbour edges).
+    pub stage2_seconds: f64,
+}
+
+/// The generated graph.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Graph {
+    /// The states; `states[0]` is free space.
+    pub states: Vec<State>,
+    /// Neighbour pairs of state ids, each `[smaller, larger]`, sorted.
+    pub edges: Vec<[usize; 2]>,
+    /// Counts and times.
+    pub stats: Stats,
+}
+
+/// Progress of a run, for progress bars.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    /// 1 or 2.
+    pub stage: u8,
+    /// Searches done in this stage (or this stage-2 level).
+    pub done: usize,
+    /// Searches planned.
+    pub total: usize,
+    /// States so far.
+    pub states: usize,
+}
+
+/// Generates the contact state graph of a fixed and a moving part within bounds.
+///
+/// ```
+/// use acsg::graph::{Options, generate};
+/// use acsg::pose::Bounds;
+///
+/// let (slab, cube) = acsg::examples::cube_and_slab();
+/// // The cube over the slab's top face, free to tilt by 10 degrees, to yaw and to drop.
+/// let bounds = Bounds::from_degrees(
+///     [-1.0, -1.0, 0.0, -10.0, -10.0, -180.0],
+///     [1.0, 1.0, 3.0, 10.0, 10.0, 180.0],
+/// )
+/// .unwrap();
+/// let graph = generate(&slab, &cube, &bounds, &Options::default());
+/// // Free space, 4 corners, 4 edges and the bottom face on the slab.
+/// assert_eq!(graph.states.len(), 1 + 9);
+/// ```
+#[must_use]
+pub fn generate(fixed: &Part, moving: &Part, bounds: &Bounds, options: &Options) -> Graph {
+    generate_with_progress(fixed, moving, bounds, options, &|_| {})
+}
+
+/// [`generate`], calling `progress` from the calling thread as searches finish.
+#[must_use]
+pub fn generate_with_progress(
+    fixed: &Part,
+    moving: &Part,
+    bounds: &Bounds,
+    options: &Options,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Graph {
+    let run = || Generator::new(fixed, moving, bounds, options).run(progress);
+    match options.threads {
+        0 => run(),
+        n => match rayon::ThreadPoolBuilder::new().num_threads(n).build() {
+            Ok(pool) => pool.install(run),
+            Err(_) => run(),
+        },
+    }
+}
+
+/// Searches run in parallel per batch; progress is reported between batches.
+const BATCH: usize = 64;
+
+struct Generator<'a> {
+    fixed: &'a Part,
+    moving: &'a Part,
+    options: &'a Options,
+    problem: Problem<'a>,
+    states: Vec<State>,
+    index: HashMap<Vec<PrincipalContact>, usize>,
+    /// Targets searched or known: never searched again.
+    seen: BTreeSet<Vec<PrincipalContact>>,
+    stats: Stats,
+}
+
+/// One stage-2 search to run.
+struct Candidate {
+    target: Vec<PrincipalContact>,
+    parent: usize,
+    added: usize,
+}
+
+impl<'a> Generator<'a> {
+    fn new(fixed: &'a Part, moving: &'a Part, bounds: &Bounds, options: &'a Options) -> Generator<'a> {
+        let problem = Problem::new(fixed, moving, *bounds, options.assembled);
+        let mut generator = Generator {
+            fixed,
+            moving,
+            options,
+            problem,
+            states: Vec::new(),
+            index: HashMap::new(),
+            seen: BTreeSet::new(),
+            stats: Stats::default(),
+        };
+        let root = generator.free_pose();
+        generator.states.push(State {
+            id: 0,
+            contacts: Vec::new(),
+            dof: 6,
+            degenerate: false,
+            witness: root,
+        });
+        generator.index.insert(Vec::new(), 0);
+        generator
+    }
+
+    /// A pose in the bounds where nothing touches: the centre, the faces' centres and
+    /// the corners of the bounds, in that order.
+    fn free_pose(&self) -> Option<Pose> {
+        let bounds = self.problem.bounds();
+        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+        let mut probes = vec![[0.5; 6]];
+        for k in 0..6 {
+            for end in [0.0, 1.0] {
+                let mut w = [0.5; 6];
+                w[k] = end;
+                probes.push(w);
+            }
+        }
+        for corner in 0..64u32 {
+            probes.push(std::array::from_fn(|k| f64::from((corner >> k) & 1)));
+        }
+        let scale = self.problem.scene().scale();
+        probes.into_iter().find_map(|w| {
+            let pose = Pose::from_array(std::array::from_fn(|k| lo[k] + (hi[k] - lo[k]) * w[k]));
+            let report = self
+                .problem
+                .scene()
+                .evaluate(&pose.to_affine(&self.options.assembled), CONTACT_REL);
+            let clear = report.min_gap.is_none_or(|g| g >= scaled(SEPARATION_REL, scale));
+            (report.contacts.is_empty() && report.penetration == 0.0 && clear).then_some(pose)
+        })
+    }
+
+    fn is_degenerate(&self, contacts: &[PrincipalContact]) -> bool {
+        contacts.iter().any(|pc| pc.degenerate(self.fixed, self.moving))
+    }
+
+    /// Adds a verified state if it is new and wanted; its id either way (`None` when
+    /// left out as degenerate).
+    fn add_state(&mut self, contacts: Vec<PrincipalContact>, witness: Pose) -> Option<(usize, bool)> {
+        if let Some(&id) = self.index.get(&contacts) {
+            return Some((id, false));
+        }
+        let degenerate = self.is_degenerate(&contacts);
+        if degenerate && !self.options.degenerate {
+            return None;
+        }
+        let id = self.states.len();
+        let placement = witness.to_affine(&self.options.assembled);
+        let dof = state_dof(self.fixed, self.moving, &contacts, &placement, self.problem.scene().scale());
+        self.seen.insert(contacts.clone());
+        self.index.insert(contacts.clone(), id);
+        self.states.push(State {
+            id,
+            contacts,
+            dof,
+            degenerate,
+            witness: Some(witness),
+        });
+        Some((id, true))
+    }
+
+    fn run(mut self, progress: &(dyn Fn(Progress) + Sync)) -> Graph {
+        let started = Instant::now();
+        // Stage 1.
+        let ppcs = primitive_contacts(self.fixed, self.moving);
+        self.stats.ppc = ppcs.len();
+        let mut results: Vec<(Search, SearchStats)> = Vec::with_capacity(ppcs.len());
+        for chunk in ppcs.chunks(BATCH) {
+            results.par_extend(chunk.par_iter().map(|ppc| {
+                let mut stats = SearchStats::default();
+                (self.problem.find_primitive(ppc, &mut stats), stats)
+            }));
+            progress(Progress {
+                stage: 1,
+                done: results.len(),
+                total: ppcs.len(),
+                states: self.states.len(),
+            });
+        }
+        let mut feasible: Vec<(PrincipalContact, Pose)> = Vec::new();
+        let mut on_the_way = Vec::new();
+        for (ppc, (search, stats)) in ppcs.iter().zip(results) {
+            self.stats.ppc_unreachable += stats.pruned + stats.misoriented + stats.incompatible;
+            self.stats.stage1_optimisations += stats.optimisations;
+            match search {
+                Search::Found(pose) => feasible.push((*ppc, pose)),
+                Search::NotFound { others } => on_the_way.extend(others),
+                Search::Unreachable => {}
+            }
+        }
+        self.stats.feasible_ppc = feasible.len();
+        let mut frontier = Vec::new();
+        for (ppc, pose) in &feasible {
+            self.seen.insert(vec![*ppc]);
+            if let Some((id, true)) = self.add_state(vec![*ppc], *pose) {
+                frontier.push(id);
+            }
+        }
+        for (state, pose) in on_the_way {
+            if let Some((id, true)) = self.add_state(state, pose) {
+                self.stats.found_on_the_way += 1;
+                frontier.push(id);
+            }
+        }
+        self.stats.stage1_seconds = started.elapsed().as_secs_f64();
+
+        // Stage 2: breadth first.
+        let started = Instant::now();
+        while !frontier.is_empty() {
+            let candidates = self.candidates(&frontier, &feasible);
+            let mut results: Vec<(Search, SearchStats)> = Vec::with_capacity(candidates.len());
+            for chunk in candidates.chunks(BATCH) {
+                results.par_extend(chunk.par_iter().map(|c| {
+                    let mut stats = SearchStats::default();
+                    let parent = self.states[c.parent].witness;
+                    let (added, added_witness) = feasible[c.added];
+                    let warm: Vec<Pose> = parent.into_iter().chain([added_witness]).collect();
+                    (self.problem.find(&c.target, &warm, &added, 2, &mut stats), stats)
+                }));
+                progress(Progress {
+                    stage: 2,
+                    done: results.len(),
+                    total: candidates.len(),
+                    states: self.states.len(),
+                });
+            }
+            frontier = Vec::new();
+            for (candidate, (search, stats)) in candidates.into_iter().zip(results) {
+                self.stats.pruned_unreachable += stats.pruned + stats.misoriented + stats.incompatible;
+                self.stats.stage2_optimisations += stats.optimisations;
+                match search {
+                    Search::Found(pose) => {
+                        if let Some((id, true)) = self.add_state(candidate.target, pose) {
+                            frontier.push(id);
+                        }
+                    }
+                    Search::NotFound { others } => {
+                        if std::env::var("ACSG_DEBUG").is_ok() {
+                            eprintln!("infeasible {:?} from {}", candidate.target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>(), candidate.parent);
+                        }
+                        self.stats.infeasible += 1;
+                        for (state, pose) in others {
+                            if let Some((id, true)) = self.add_state(state, pose) {
+                                self.stats.found_on_the_way += 1;
+                                frontier.push(id);
+                            }
+                        }
+                    }
+                    Search::Unreachable => self.stats.infeasible += 1,
+                }
+            }
+        }
+        let edges = self.neighbours(&feasible);
+        self.stats.states = self.states.len();
+        self.stats.edges = edges.len();
+        self.stats.stage2_seconds = started.elapsed().as_secs_f64();
+        Graph {
+            states: self.states,
+            edges,
+            stats: self.stats,
+        }
+    }
+
+    /// The new searches of one breadth-first level, in a fixed order.
+    fn candidates(&mut self, frontier: &[usize], feasible: &[(PrincipalContact, Pose)]) -> Vec<Candidate> {
+        let mut out = Vec::new();
+        for &parent in frontier {
+            let state = self.states[parent].contacts.clone();
+            let implied = rules::state_primitives(self.fixed, self.moving, &state);
+            for (added, (ppc, _)) in feasible.iter().enumerate() {
+                self.stats.stage2_pairs += 1;
+                if implied.contains(ppc) {
+                    self.stats.pruned_implied += 1;
+                    continue;
+                }
+                let targets = rules::grow(self.fixed, self.moving, &state, *ppc);
+                if targets.is_empty() {
+                    self.stats.pruned_topology += 1;
+                }
+                for target in targets {
+                    if target == state {
+                        self.stats.pruned_implied += 1;
+                    } else if !self.options.degenerate && self.is_degenerate(&target) {
+                        self.stats.pruned_degenerate += 1;
+                    } else if !self.seen.insert(target.clone()) {
+                        self.stats.pruned_duplicate += 1;
+                    } else {
+                        self.stats.stage2_candidates += 1;
+                        out.push(Candidate { target, parent, added });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Neighbour pairs: free space with every single-PPC state; a state with each state
+    /// it grows into by one feasible PPC (DOMAIN.md section 4).
+    fn neighbours(&self, feasible: &[(PrincipalContact, Pose)]) -> Vec<[usize; 2]> {
+        let mut edges = BTreeSet::new();
+        for state in &self.states[1..] {
+            if let [pc] = state.contacts[..] {
+                if is_primitive(&pc) {
+                    edges.insert([0, state.id]);
+                }
+            }
+            let implied = rules::state_primitives(self.fixed, self.moving, &state.contacts);
+            for (ppc, _) in feasible.iter().filter(|(p, _)| !implied.contains(p)) {
+                for target in rules::grow(self.fixed, self.moving, &state.contacts, *ppc) {
+                    if let Some(&other) = self.index.get(&target) {
+                        if other != state.id {
+                            edges.insert([state.id.min(other), state.id.max(other)]);
+                        }
+                    }
+                }
+            }
+        }
+        edges.into_iter().collect()
+    }
+}

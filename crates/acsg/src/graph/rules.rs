@@ -1,0 +1,336 @@
+//! The combinatorial side of stage 2: which primitive contacts a state already implies
+//! (its KLC), and what a state plus one more primitive contact can become (the derived
+//! mapping rules of DOMAIN.md section 6, with topological existence).
+//!
+//! The rules only prune and propose: a proposed state is accepted only when a verified
+//! witness shows it (P(X) at the witness is the canonical description).
+
+use std::collections::BTreeSet;
+
+use crate::contact::{ContactKind, PrincipalContact};
+use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
+
+/// Whether `inner` lies in the closure of `outer` (an element is in its own closure).
+#[must_use]
+pub fn in_closure(part: &Part, outer: ElementId, inner: ElementId) -> bool {
+    use ElementId::{Edge, Face, Vertex};
+    match (outer, inner) {
+        _ if outer == inner => true,
+        (Face(f), Edge(e)) => part.edge(e).faces.contains(&f),
+        (Face(f), Vertex(v)) => part.vertex(v).faces.contains(&f),
+        (Edge(e), Vertex(v)) => part.edge(e).vertices.contains(&v),
+        _ => false,
+    }
+}
+
+/// The vertices in an element's closure.
+fn closure_vertices(part: &Part, e: ElementId) -> Vec<VertexId> {
+    match e {
+        ElementId::Vertex(v) => vec![v],
+        ElementId::Edge(x) => part.edge(x).vertices.to_vec(),
+        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.vertices.clone()).collect(),
+    }
+}
+
+/// The edges in an element's closure.
+fn closure_edges(part: &Part, e: ElementId) -> Vec<EdgeId> {
+    match e {
+        ElementId::Vertex(_) => Vec::new(),
+        ElementId::Edge(x) => vec![x],
+        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.edges.clone()).collect(),
+    }
+}
+
+/// The faces whose closure holds an element.
+fn faces_around(part: &Part, e: ElementId) -> Vec<FaceId> {
+    match e {
+        ElementId::Vertex(v) => part.vertex(v).faces.clone(),
+        ElementId::Edge(x) => part.edge(x).faces.to_vec(),
+        ElementId::Face(f) => vec![f],
+    }
+}
+
+/// The largest elements in the intersection of two closures: where one point touching
+/// both can lie. Empty when the closures are disjoint.
+#[must_use]
+pub fn meet(part: &Part, x: ElementId, y: ElementId) -> Vec<ElementId> {
+    if in_closure(part, x, y) {
+        return vec![y];
+    }
+    if in_closure(part, y, x) {
+        return vec![x];
+    }
+    let edges_y: BTreeSet<EdgeId> = closure_edges(part, y).into_iter().collect();
+    let shared_edges: Vec<EdgeId> = closure_edges(part, x)
+        .into_iter()
+        .filter(|e| edges_y.contains(e))
+        .collect::<BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    let vertices_y: BTreeSet<VertexId> = closure_vertices(part, y).into_iter().collect();
+    let shared_vertices = closure_vertices(part, x)
+        .into_iter()
+        .filter(|v| vertices_y.contains(v))
+        .filter(|&v| !shared_edges.iter().any(|&e| part.edge(e).vertices.contains(&v)))
+        .collect::<BTreeSet<_>>();
+    shared_edges
+        .into_iter()
+        .map(ElementId::Edge)
+        .chain(shared_vertices.into_iter().map(ElementId::Vertex))
+        .collect()
+}
+
+/// The smallest element whose closure holds both: where two contacts can be parts of
+/// one. `None` when there is none or it is not unique.
+#[must_use]
+pub fn join(part: &Part, x: ElementId, y: ElementId) -> Option<ElementId> {
+    if in_closure(part, x, y) {
+        return Some(x);
+    }
+    if in_closure(part, y, x) {
+        return Some(y);
+    }
+    if let (ElementId::Vertex(a), ElementId::Vertex(b)) = (x, y) {
+        if let Some(&e) = part.vertex(a).edges.iter().find(|e| part.edge(**e).vertices.contains(&b)) {
+            return Some(ElementId::Edge(e));
+        }
+    }
+    let around_y = faces_around(part, y);
+    let common: Vec<FaceId> = faces_around(part, x)
+        .into_iter()
+        .filter(|f| around_y.contains(f))
+        .collect();
+    match common.as_slice() {
+        [f] => Some(ElementId::Face(*f)),
+        _ => None,
+    }
+}
+
+/// The kind of a contact between two elements; two edges merged from two contacts lie
+/// along each other (e-e-t).
+fn kind_between(a: ElementId, b: ElementId) -> ContactKind {
+    use ElementId::{Edge, Face, Vertex};
+    match (a, b) {
+        (Face(_), Face(_)) => ContactKind::FaceFace,
+        (Face(_), Edge(_)) => ContactKind::FaceEdge,
+        (Edge(_), Face(_)) => ContactKind::EdgeFace,
+        (Face(_), Vertex(_)) => ContactKind::FaceVertex,
+        (Vertex(_), Face(_)) => ContactKind::VertexFace,
+        (Edge(_), Edge(_)) => ContactKind::EdgeEdgeTouch,
+        (Edge(_), Vertex(_)) => ContactKind::EdgeVertex,
+        (Vertex(_), Edge(_)) => ContactKind::VertexEdge,
+        (Vertex(_), Vertex(_)) => ContactKind::VertexVertex,
+    }
+}
+
+fn contact(a: ElementId, b: ElementId) -> PrincipalContact {
+    PrincipalContact {
+        fixed: a,
+        moving: b,
+        kind: kind_between(a, b),
+    }
+}
+
+/// What two contacts of one state make together.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Combined {
+    /// Separate contacts: geometry decides.
+    Independent,
+    /// They cannot hold together (topological existence fails).
+    Impossible,
+    /// One contact, one of these (the pose decides which).
+    Merged(Vec<PrincipalContact>),
+}
+
+fn is_vertex(e: ElementId) -> bool {
+    matches!(e, ElementId::Vertex(_))
+}
+fn is_edge(e: ElementId) -> bool {
+    matches!(e, ElementId::Edge(_))
+}
+fn is_face(e: ElementId) -> bool {
+    matches!(e, ElementId::Face(_))
+}
+
+/// The derived mapping rules for a pair of contacts.
+fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalContact) -> Combined {
+    if c1 == c2 {
+        return Combined::Merged(vec![c1]);
+    }
+    let (a1, b1, a2, b2) = (c1.fixed, c1.moving, c2.fixed, c2.moving);
+    // One point of B (a vertex, or an edge lying in two faces) touching two elements of
+    // A: it lies where their closures meet.
+    if b1 == b2 && (is_vertex(b1) || (is_edge(b1) && is_face(a1) && is_face(a2))) {
+        let places = meet(fixed, a1, a2);
+        if places.is_empty() {
+            return Combined::Impossible;
+        }
+        return Combined::Merged(places.into_iter().map(|a| contact(a, b1)).collect());
+    }
+    if a1 == a2 && (is_vertex(a1) || (is_edge(a1) && is_face(b1) && is_face(b2))) {
+        let places = meet(moving, b1, b2);
+        if places.is_empty() {
+            return Combined::Impossible;
+        }
+        return Combined::Merged(places.into_iter().map(|b| contact(a1, b)).collect());
+    }
+    // Two contacts between parts of one element on each side: one higher contact.
+    match (join(fixed, a1, a2), join(moving, b1, b2)) {
+        (Some(a), Some(b)) => {
+            let merged = contact(a, b);
+            // Two crossings that join into the same crossing pair stay a crossing.
+            let merged = if merged.fixed == a1 && merged.moving == b1 {
+                c1
+            } else if merged.fixed == a2 && merged.moving == b2 {
+                c2
+            } else {
+                merged
+            };
+            Combined::Merged(vec![merged])
+        }
+        _ => Combined::Independent,
+    }
+}
+
+/// Closes a list of contacts under the mapping rules: every description it can map to
+/// (usually one), each sorted; empty when the combination cannot exist.
+fn close(fixed: &Part, moving: &Part, list: Vec<PrincipalContact>, out: &mut BTreeSet<Vec<PrincipalContact>>) {
+    for i in 0..list.len() {
+        for j in i + 1..list.len() {
+            match combine(fixed, moving, list[i], list[j]) {
+                Combined::Independent => {}
+                Combined::Impossible => return,
+                Combined::Merged(options) => {
+                    for merged in options {
+                        let mut next: Vec<PrincipalContact> = list
+                            .iter()
+                            .enumerate()
+                            .filter(|&(k, _)| k != i && k != j)
+                            .map(|(_, c)| *c)
+                            .collect();
+                        next.push(merged);
+                        close(fixed, moving, next, out);
+                    }
+                    return;
+                }
+            }
+        }
+    }
+    let mut list = list;
+    list.sort();
+    list.dedup();
+    out.insert(list);
+}
+
+/// The states a state plus one primitive contact can map to (TopUniqDesc); empty when
+/// topological existence rules the combination out.
+#[must_use]
+pub fn grow(fixed: &Part, moving: &Part, state: &[PrincipalContact], added: PrincipalContact) -> Vec<Vec<PrincipalContact>> {
+    let mut list = state.to_vec();
+    list.push(added);
+    let mut out = BTreeSet::new();
+    close(fixed, moving, list, &mut out);
+    out.into_iter().collect()
+}
+
+/// The primitive contacts a contact implies (its KLC, DOMAIN.md section 3): those that
+/// hold wherever it holds, in the closure of its contact region. f-e: the edge's ends
+/// on the face and the edge crossing the face's boundary; f-f: the vertices of either
+/// face on the other and the crossings of their boundaries; e-v: the vertex on the
+/// edge's faces and the vertex's edges crossing the edge; e-e-t: the ends of each edge
+/// on the other's faces; v-v: everything around both vertices.
+#[must_use]
+pub fn implied_primitives(fixed: &Part, moving: &Part, pc: &PrincipalContact) -> Vec<PrincipalContact> {
+    use ContactKind as K;
+    let (a, b) = (pc.fixed, pc.moving);
+    // (faces of A, vertices of B), (vertices of A, faces of B), (edges of A, edges of B)
+    let (face_vertex, vertex_face, edge_edge) = match pc.kind {
+        K::FaceVertex | K::VertexFace | K::EdgeEdge => ((vec![], vec![]), (vec![], vec![]), (vec![], vec![])),
+        K::FaceEdge => (
+            (faces_around(fixed, a), closure_vertices(moving, b)),
+            (vec![], vec![]),
+            (closure_edges(fixed, a), closure_edges(moving, b)),
+        ),
+        K::EdgeFace => (
+            (vec![], vec![]),
+            (closure_vertices(fixed, a), faces_around(moving, b)),
+            (closure_edges(fixed, a), closure_edges(moving, b)),
+        ),
+        K::FaceFace => (
+            (faces_around(fixed, a), closure_vertices(moving, b)),
+            (closure_vertices(fixed, a), faces_around(moving, b)),
+            (closure_edges(fixed, a), closure_edges(moving, b)),
+        ),
+        K::EdgeVertex => (
+            (faces_around(fixed, a), closure_vertices(moving, b)),
+            (vec![], vec![]),
+            (closure_edges(fixed, a), edges_at(moving, b)),
+        ),
+        K::VertexEdge => (
+            (vec![], vec![]),
+            (closure_vertices(fixed, a), faces_around(moving, b)),
+            (edges_at(fixed, a), closure_edges(moving, b)),
+        ),
+        K::EdgeEdgeTouch => (
+            (faces_around(fixed, a), closure_vertices(moving, b)),
+            (closure_vertices(fixed, a), faces_around(moving, b)),
+            (closure_edges(fixed, a), closure_edges(moving, b)),
+        ),
+        K::VertexVertex => (
+            (faces_around(fixed, a), closure_vertices(moving, b)),
+            (closure_vertices(fixed, a), faces_around(moving, b)),
+            (edges_at(fixed, a), edges_at(moving, b)),
+        ),
+    };
+    let mut out = Vec::new();
+    if crate::feasibility::is_primitive(pc) {
+        out.push(*pc);
+    }
+    for &f in &face_vertex.0 {
+        for &v in face_vertex.1.iter().filter(|&&v| moving.vertex(v).convex) {
+            out.push(PrincipalContact {
+                fixed: ElementId::Face(f),
+                moving: ElementId::Vertex(v),
+                kind: ContactKind::FaceVertex,
+            });
+        }
+    }
+    for &v in vertex_face.0.iter().filter(|&&v| fixed.vertex(v).convex) {
+        for &f in &vertex_face.1 {
+            out.push(PrincipalContact {
+                fixed: ElementId::Vertex(v),
+                moving: ElementId::Face(f),
+                kind: ContactKind::VertexFace,
+            });
+        }
+    }
+    for &e in edge_edge.0.iter().filter(|&&e| fixed.edge(e).convex) {
+        for &x in edge_edge.1.iter().filter(|&&x| moving.edge(x).convex) {
+            out.push(PrincipalContact {
+                fixed: ElementId::Edge(e),
+                moving: ElementId::Edge(x),
+                kind: ContactKind::EdgeEdge,
+            });
+        }
+    }
+    out.sort();
+    out.dedup();
+    out
+}
+
+/// The edges at a vertex (a vertex touch lies on each of them).
+fn edges_at(part: &Part, e: ElementId) -> Vec<EdgeId> {
+    match e {
+        ElementId::Vertex(v) => part.vertex(v).edges.clone(),
+        _ => Vec::new(),
+    }
+}
+
+/// The KLC of a state: every primitive contact it implies.
+#[must_use]
+pub fn state_primitives(fixed: &Part, moving: &Part, state: &[PrincipalContact]) -> BTreeSet<PrincipalContact> {
+    state
+        .iter()
+        .flat_map(|pc| implied_primitives(fixed, moving, pc))
+        .collect()
+}
