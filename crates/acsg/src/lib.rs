@@ -22,5 +22,6 @@ pub mod graph;
 pub mod io;
 pub mod model;
 pub mod pose;
+pub mod task;
 pub mod tolerance;
 pub mod topology;

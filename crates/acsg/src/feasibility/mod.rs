@@ -143,7 +143,7 @@ impl<'a> Problem<'a> {
     }
 
     /// The residuals of a contact state and of non-penetration at a pose.
-    fn residuals(&self, target: &[PrincipalContact], pose: &Pose, out: &mut Vec<f64>) {
+    fn residuals(&self, target: &[PrincipalContact], pose: &Pose, penetration: bool, out: &mut Vec<f64>) {
         out.clear();
         let t = self.placement(pose);
         let to_b = t.inverse();
@@ -174,8 +174,9 @@ impl<'a> Problem<'a> {
                 (ElementId::Vertex(v), ElementId::Vertex(w)) => residual::vertex_vertex(a, v, b, w, &t, out),
             }
         }
-        let depth = self.scene.penetration_depth(&t);
-        out.push(depth.max(0.0));
+        if penetration {
+            out.push(self.scene.penetration_depth(&t).max(0.0));
+        }
     }
 
     /// Starting poses that put the anchor contact's points together, for up to `count`
@@ -398,6 +399,24 @@ impl<'a> Problem<'a> {
         (report.penetration == 0.0 && !report.contacts.is_empty() && clear).then_some(report.contacts)
     }
 
+    /// One local optimisation in two phases: the contacts alone first (cheap, and for
+    /// translations a convex problem, so a start pushed into the parts by the bounds
+    /// does not trap it), then with the penetration depth, from there.
+    fn solve(&self, target: &[PrincipalContact], start: Pose) -> Pose {
+        let contacts_only = solver::minimise(
+            |x, out| self.residuals(target, x, false, out),
+            start,
+            &self.bounds,
+            self.scale,
+        );
+        solver::minimise(
+            |x, out| self.residuals(target, x, true, out),
+            contacts_only,
+            &self.bounds,
+            self.scale,
+        )
+    }
+
     /// Searches for a witness of a contact state (its contacts sorted): first from the
     /// warm starts, then from `constructive` starts that place the anchor contact's
     /// points together. Poses that verify as other states are returned with
@@ -423,7 +442,7 @@ impl<'a> Problem<'a> {
         let starts = warm.iter().copied().chain(self.starts(anchor, constructive));
         for start in starts {
             stats.optimisations += 1;
-            let pose = solver::minimise(|x, out| self.residuals(target, x, out), start, &self.bounds, self.scale);
+            let pose = self.solve(target, start);
             let Some(state) = self.verify(&pose) else { continue };
             if state == target {
                 return Search::Found(pose);
@@ -434,8 +453,8 @@ impl<'a> Problem<'a> {
         }
         if std::env::var("ACSG_DEBUG").is_ok() {
             let mut r = Vec::new();
-            let pose = solver::minimise(|x, out| self.residuals(target, x, out), warm.first().copied().unwrap_or_else(|| self.starts(anchor, 1)[0]), &self.bounds, self.scale);
-            self.residuals(target, &pose, &mut r);
+            let pose = self.solve(target, warm.first().copied().unwrap_or_else(|| self.starts(anchor, 1)[0]));
+            self.residuals(target, &pose, true, &mut r);
             eprintln!("NOTFOUND {:?} residuals {:?}", target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>(), r.iter().map(|x| format!("{x:.2e}")).collect::<Vec<_>>());
         }
         Search::NotFound { others }

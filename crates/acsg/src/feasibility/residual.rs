@@ -115,8 +115,12 @@ pub(crate) struct Margins {
 }
 
 impl Margins {
+    /// The clearance asked of a neighbouring corner at distance `d` from a contact: a
+    /// slope of 1/100 (half a degree) is enough to keep it off the contact, and the
+    /// margin at most. Asking more would rule out contacts at the edge of their normal
+    /// cones.
     fn clearance(self, d: f64) -> f64 {
-        self.margin.min(0.25 * d)
+        self.margin.min(0.01 * d)
     }
     fn along(self, length: f64) -> f64 {
         (self.margin / length).min(0.25)

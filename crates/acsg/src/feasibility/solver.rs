@@ -4,7 +4,7 @@
 use crate::pose::{Bounds, Pose};
 
 /// Iteration limit of one local optimisation.
-const MAX_ITERATIONS: usize = 80;
+const MAX_ITERATIONS: usize = 150;
 
 fn sum_squares(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
@@ -78,6 +78,22 @@ pub(crate) fn minimise(residuals: impl Fn(&Pose, &mut Vec<f64>), start: Pose, bo
                 for j in 0..6 {
                     a[i][j] += row[i] * row[j];
                 }
+            }
+        }
+        // Active bounds: a component on a bound that descent would push outwards stays
+        // there for this step, so that the step slides along the bound instead of being
+        // cut short by the projection.
+        for i in 0..6 {
+            let span = (hi[i] - lo[i]).abs().max(steps[i]);
+            let at_lower = x[i] <= lo[i] + 1e-12 * span && g[i] > 0.0;
+            let at_upper = x[i] >= hi[i] - 1e-12 * span && g[i] < 0.0;
+            if at_lower || at_upper || hi[i] <= lo[i] {
+                for k in 0..6 {
+                    a[i][k] = 0.0;
+                    a[k][i] = 0.0;
+                }
+                a[i][i] = 1.0;
+                g[i] = 0.0;
             }
         }
         let largest = (0..6).map(|i| a[i][i]).fold(0.0, f64::max);

@@ -16,6 +16,7 @@
 //! in parallel and merged in a fixed order, so the output does not depend on the
 //! number of threads.
 
+pub mod document;
 mod dof;
 pub mod rules;
 
@@ -32,6 +33,7 @@ use crate::model::Part;
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 
+pub use document::Document;
 pub use dof::state_dof;
 
 /// How to generate a graph.
@@ -353,6 +355,9 @@ impl<'a> Generator<'a> {
                 self.stats.stage2_optimisations += stats.optimisations;
                 match search {
                     Search::Found(pose) => {
+                        if std::env::var("ACSG_DEBUG").is_ok() {
+                            eprintln!("FOUND {:?}", candidate.target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>());
+                        }
                         if let Some((id, true)) = self.add_state(candidate.target, pose) {
                             frontier.push(id);
                         }
@@ -369,7 +374,12 @@ impl<'a> Generator<'a> {
                             }
                         }
                     }
-                    Search::Unreachable => self.stats.infeasible += 1,
+                    Search::Unreachable => {
+                        if std::env::var("ACSG_DEBUG").is_ok() {
+                            eprintln!("UNREACHABLE {:?}", candidate.target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>());
+                        }
+                        self.stats.infeasible += 1
+                    }
                 }
             }
         }

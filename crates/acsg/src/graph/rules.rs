@@ -186,7 +186,26 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
             } else {
                 merged
             };
-            Combined::Merged(vec![merged])
+            let mut options = vec![merged];
+            // Nested on both sides (a vertex contact and a contact of an edge through it,
+            // say): the two may also be one contact at the lower elements, e.g. f-v plus
+            // e-e through that vertex on the face's edge is f-e or e-v.
+            let lower = |part: &Part, x: ElementId, y: ElementId| {
+                if in_closure(part, x, y) {
+                    Some(y)
+                } else if in_closure(part, y, x) {
+                    Some(x)
+                } else {
+                    None
+                }
+            };
+            if let (Some(a), Some(b)) = (lower(fixed, a1, a2), lower(moving, b1, b2)) {
+                let low = contact(a, b);
+                if low != c1 && low != c2 && !options.contains(&low) {
+                    options.push(low);
+                }
+            }
+            Combined::Merged(options)
         }
         _ => Combined::Independent,
     }

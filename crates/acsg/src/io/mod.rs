@@ -284,3 +284,35 @@ pub fn finite_point(p: [f64; 3], place: Place) -> Result<DVec3, ParseError> {
         ))
     }
 }
+
+/// Writes a file atomically: the bytes go to a temporary file in the same folder, which
+/// then replaces `path` in one rename, so a reader never sees a half-written file and an
+/// existing file survives a failed write.
+///
+/// # Errors
+/// The operating system's error, with the path in the message.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let name_error = |what: &str| std::io::Error::other(format!("{}: {what}", path.display()));
+    let file_name = path.file_name().ok_or_else(|| name_error("not a file name"))?;
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let mut temporary = folder.join(format!(".{}.{}.tmp", file_name.to_string_lossy(), std::process::id()));
+    let mut attempt = 0;
+    while temporary.exists() {
+        attempt += 1;
+        temporary = folder.join(format!(".{}.{}.{attempt}.tmp", file_name.to_string_lossy(), std::process::id()));
+    }
+    let result = (|| {
+        let mut file = std::fs::File::create(&temporary)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        std::fs::rename(&temporary, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    result.map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display())))
+}

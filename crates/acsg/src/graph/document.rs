@@ -1,0 +1,141 @@
+//! The graph as written to JSON (documented by `schema/graph.schema.json`).
+
+use serde::Serialize;
+
+use super::{Graph, Options, Stats};
+use crate::contact::ContactRecord;
+use crate::model::{Part, PartElements};
+use crate::pose::{Bounds, CONVENTION, Pose};
+
+/// The identifier of the output format, bumped when a key changes meaning.
+pub const FORMAT: &str = "acsg-graph/1";
+
+/// The whole output of a run.
+#[derive(Clone, Debug, Serialize)]
+pub struct Document {
+    /// [`FORMAT`].
+    pub format: &'static str,
+    /// The pose convention ([`CONVENTION`]).
+    pub convention: &'static str,
+    /// Units of lengths and angles in this file.
+    pub units: Units,
+    /// The fixed part A: path as given and elements with geometry.
+    pub fixed: PartElements,
+    /// The moving part B.
+    pub moving: PartElements,
+    /// G, row-major 4x4.
+    pub assembled: [[f64; 4]; 4],
+    /// The misalignment bounds, radians for angles.
+    pub bounds: BoundsRecord,
+    /// The options of the run.
+    pub options: OptionsRecord,
+    /// The states; `states[0]` is free space.
+    pub states: Vec<StateRecord>,
+    /// Neighbour pairs of state ids.
+    pub edges: Vec<[usize; 2]>,
+    /// Counts and times.
+    pub stats: Stats,
+}
+
+/// Units used in the file.
+#[derive(Clone, Debug, Serialize)]
+pub struct Units {
+    /// Always "model units" (those of the input files).
+    pub length: &'static str,
+    /// Always "radians".
+    pub angle: &'static str,
+}
+
+/// Bounds as written.
+#[derive(Clone, Debug, Serialize)]
+pub struct BoundsRecord {
+    /// Lower ends, in the order x, y, z, rx, ry, rz.
+    pub min: [f64; 6],
+    /// Upper ends.
+    pub max: [f64; 6],
+}
+
+/// Options as written.
+#[derive(Clone, Debug, Serialize)]
+pub struct OptionsRecord {
+    /// Whether degenerate states were kept.
+    pub degenerate: bool,
+}
+
+/// One state as written.
+#[derive(Clone, Debug, Serialize)]
+pub struct StateRecord {
+    /// Index in `states`.
+    pub id: usize,
+    /// The principal contacts.
+    pub contacts: Vec<ContactRecord>,
+    /// Degrees of freedom left.
+    pub dof: u8,
+    /// Whether a contact is degenerate.
+    pub degenerate: bool,
+    /// The witness pose, or null for free space when no free pose was probed.
+    pub witness: Option<WitnessRecord>,
+}
+
+/// A witness pose as written.
+#[derive(Clone, Debug, Serialize)]
+pub struct WitnessRecord {
+    /// x, y, z, rx, ry, rz (radians).
+    pub pose: [f64; 6],
+    /// The placement of B in A's frame, row-major 4x4 (G·[R|t]).
+    pub matrix: [[f64; 4]; 4],
+}
+
+impl Document {
+    /// The document of a graph; `paths` are the parts' paths as the user gave them.
+    #[must_use]
+    pub fn new(graph: &Graph, fixed: &Part, moving: &Part, bounds: &Bounds, options: &Options, paths: [&str; 2]) -> Document {
+        let mut fixed_elements = PartElements::of(fixed);
+        fixed_elements.path = paths[0].to_string();
+        let mut moving_elements = PartElements::of(moving);
+        moving_elements.path = paths[1].to_string();
+        let g = options.assembled;
+        Document {
+            format: FORMAT,
+            convention: CONVENTION,
+            units: Units {
+                length: "model units",
+                angle: "radians",
+            },
+            fixed: fixed_elements,
+            moving: moving_elements,
+            assembled: Pose::default().matrix(&g),
+            bounds: BoundsRecord {
+                min: bounds.min.to_array(),
+                max: bounds.max.to_array(),
+            },
+            options: OptionsRecord {
+                degenerate: options.degenerate,
+            },
+            states: graph
+                .states
+                .iter()
+                .map(|s| StateRecord {
+                    id: s.id,
+                    contacts: s.contacts.iter().map(|c| ContactRecord::of(c, fixed, moving)).collect(),
+                    dof: s.dof,
+                    degenerate: s.degenerate,
+                    witness: s.witness.map(|p| WitnessRecord {
+                        pose: p.to_array(),
+                        matrix: p.matrix(&g),
+                    }),
+                })
+                .collect(),
+            edges: graph.edges.clone(),
+            stats: graph.stats.clone(),
+        }
+    }
+
+    /// Pretty JSON text, ending with a newline.
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        let mut text = serde_json::to_string_pretty(self).unwrap_or_default();
+        text.push('\n');
+        text
+    }
+}

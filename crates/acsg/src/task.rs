@@ -1,0 +1,240 @@
+//! Task files: the two parts, the misalignment bounds and the options of one run, in
+//! TOML.
+//!
+//! ```toml
+//! fixed = "l_block.off"          # relative to the task file
+//! moving = "box.off"
+//!
+//! [bounds]                       # [min, max]; lengths in model units, angles in degrees
+//! x = [-5, 5]
+//! y = [-5, 5]
+//! z = [0, 240]
+//! rx = [-18, 18]
+//! ry = [-18, 18]
+//! rz = [-18, 18]
+//!
+//! [options]                      # optional
+//! degenerate = false             # keep states with a degenerate contact
+//! threads = 0                    # 0: one per core
+//! assembled = [0, 0, 0, 0, 0, 0] # G as x, y, z, rx, ry, rz (degrees)
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::graph::Options;
+use crate::pose::{Bounds, Pose, PoseError};
+
+/// What can go wrong with a task file or a bounds specification.
+#[derive(Debug, thiserror::Error)]
+pub enum TaskError {
+    /// The task file could not be read.
+    #[error("{path}: cannot read the task file: {source} (check the path)")]
+    Io {
+        /// The task file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// The TOML is malformed or has a wrong, missing or unknown key.
+    #[error("{path}:{line}:{column}: {message} (see `acsg run --help` for the task file format)")]
+    Syntax {
+        /// The task file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The bounds or the assembled pose are invalid.
+    #[error("{place}: {source} (each bound is [min, max] with min <= max, finite numbers)")]
+    Bounds {
+        /// The task file and table, or the option that gave the bounds.
+        place: String,
+        /// The problems found.
+        source: PoseError,
+    },
+    /// A `--bounds` specification is malformed.
+    #[error(
+        "--bounds: {0} (write e.g. x=-5:5,y=-5:5,z=0:240,rx=-18:18,ry=-18:18,rz=-18:18; angles in degrees, omitted components fixed at 0)"
+    )]
+    Spec(String),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TaskFile {
+    fixed: String,
+    moving: String,
+    bounds: BoundsTable,
+    #[serde(default)]
+    options: OptionsTable,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoundsTable {
+    x: [f64; 2],
+    y: [f64; 2],
+    z: [f64; 2],
+    rx: [f64; 2],
+    ry: [f64; 2],
+    rz: [f64; 2],
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct OptionsTable {
+    #[serde(default)]
+    degenerate: bool,
+    #[serde(default)]
+    threads: usize,
+    assembled: Option<[f64; 6]>,
+}
+
+/// A run to do: what the task file says, with the part paths resolved.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Task {
+    /// The fixed part's path as written in the task file.
+    pub fixed_given: String,
+    /// The moving part's path as written.
+    pub moving_given: String,
+    /// The fixed part's path, relative to the task file's folder.
+    pub fixed: PathBuf,
+    /// The moving part's path, resolved likewise.
+    pub moving: PathBuf,
+    /// The bounds (radians inside).
+    pub bounds: Bounds,
+    /// The options.
+    pub options: Options,
+}
+
+impl Task {
+    /// Reads a task file.
+    ///
+    /// # Errors
+    /// [`TaskError`] naming the file, line and column, and what to write instead.
+    pub fn from_path(path: &Path) -> Result<Task, TaskError> {
+        let text = std::fs::read_to_string(path).map_err(|source| TaskError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let folder = path.parent().unwrap_or(Path::new(""));
+        Task::parse(&text, path, folder)
+    }
+
+    /// Parses a task from its text; `path` names it in messages, part paths are taken
+    /// relative to `folder`.
+    ///
+    /// ```
+    /// use std::path::Path;
+    /// let text = "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [-1, 1]\ny = [-1, 1]\n\
+    ///             z = [0, 5]\nrx = [-10, 10]\nry = [-10, 10]\nrz = [0, 0]\n";
+    /// let task = acsg::task::Task::parse(text, Path::new("t.toml"), Path::new("parts")).unwrap();
+    /// assert_eq!(task.fixed, Path::new("parts/a.off"));
+    /// assert!((task.bounds.max.rx - 10f64.to_radians()).abs() < 1e-15);
+    /// ```
+    ///
+    /// # Errors
+    /// [`TaskError::Syntax`] for malformed TOML or wrong keys, [`TaskError::Bounds`] for
+    /// inverted or non-finite bounds.
+    pub fn parse(text: &str, path: &Path, folder: &Path) -> Result<Task, TaskError> {
+        let file: TaskFile = toml::from_str(text).map_err(|e| {
+            let (line, column) = e.span().map_or((1, 1), |s| line_column(text, s.start));
+            TaskError::Syntax {
+                path: path.to_path_buf(),
+                line,
+                column,
+                message: e.message().trim().to_string(),
+            }
+        })?;
+        let b = &file.bounds;
+        let pairs = [b.x, b.y, b.z, b.rx, b.ry, b.rz];
+        let bounds = Bounds::from_degrees(pairs.map(|p| p[0]), pairs.map(|p| p[1])).map_err(|source| TaskError::Bounds {
+            place: format!("{}: [bounds]", path.display()),
+            source,
+        })?;
+        let mut options = Options {
+            degenerate: file.options.degenerate,
+            threads: file.options.threads,
+            ..Options::default()
+        };
+        if let Some(g) = file.options.assembled {
+            let place = format!("{}: [options] assembled", path.display());
+            let text = g.map(|v| v.to_string()).join(",");
+            let pose = Pose::parse(&text, true).map_err(|source| TaskError::Bounds {
+                place: place.clone(),
+                source,
+            })?;
+            options.assembled = pose.to_affine(&glam::DAffine3::IDENTITY);
+        }
+        Ok(Task {
+            fixed: folder.join(&file.fixed),
+            moving: folder.join(&file.moving),
+            fixed_given: file.fixed,
+            moving_given: file.moving,
+            bounds,
+            options,
+        })
+    }
+}
+
+/// 1-based line and column of a byte offset.
+fn line_column(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+/// Bounds from a command-line specification such as
+/// `x=-5:5,y=-5:5,z=0:240,rx=-18:18,ry=-18:18,rz=-18:18` (angles in degrees); omitted
+/// components are fixed at 0.
+///
+/// ```
+/// let b = acsg::task::bounds_from_spec("x=-1:1,z=0:5,rz=-90:90").unwrap();
+/// assert_eq!((b.min.y, b.max.y), (0.0, 0.0));
+/// assert!((b.max.rz - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+/// assert!(acsg::task::bounds_from_spec("x=1:-1").is_err());
+/// ```
+///
+/// # Errors
+/// [`TaskError::Spec`] for malformed text, [`TaskError::Bounds`] for inverted or
+/// non-finite values.
+pub fn bounds_from_spec(spec: &str) -> Result<Bounds, TaskError> {
+    const NAMES: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+    let (mut min, mut max) = ([0.0; 6], [0.0; 6]);
+    let mut given = [false; 6];
+    for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (name, range) = item
+            .split_once('=')
+            .ok_or_else(|| TaskError::Spec(format!("'{item}' has no '='")))?;
+        let k = NAMES
+            .iter()
+            .position(|n| *n == name.trim())
+            .ok_or_else(|| TaskError::Spec(format!("unknown component '{}'", name.trim())))?;
+        if given[k] {
+            return Err(TaskError::Spec(format!("{} is given twice", NAMES[k])));
+        }
+        given[k] = true;
+        let (lo, hi) = range
+            .split_once(':')
+            .ok_or_else(|| TaskError::Spec(format!("'{item}': write the range as min:max")))?;
+        let number = |t: &str| {
+            t.trim()
+                .parse::<f64>()
+                .map_err(|_| TaskError::Spec(format!("'{}' in '{item}' is not a number", t.trim())))
+        };
+        (min[k], max[k]) = (number(lo)?, number(hi)?);
+    }
+    if !given.iter().any(|g| *g) {
+        return Err(TaskError::Spec("no component given".into()));
+    }
+    Bounds::from_degrees(min, max).map_err(|source| TaskError::Bounds {
+        place: "--bounds".into(),
+        source,
+    })
+}
