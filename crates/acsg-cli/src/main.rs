@@ -2,13 +2,15 @@
 //! library, prints, and maps errors to exit codes (0 success, 1 bad input or failed
 //! job, 2 bad usage).
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use acsg::contact::{ContactRecord, ContactReport, ContactScene};
+use acsg::graph::{Document, Graph, Options, Progress, generate_with_progress};
 use acsg::model::{ElementId, Inspection, Part, PartElements};
-use acsg::pose::Pose;
+use acsg::pose::{Bounds, Pose};
+use acsg::task::Task;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use glam::{DAffine3, DVec3};
@@ -58,12 +60,61 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Run on the built-in example (the paper's L-block and box): no files needed.
-    Demo {
-        /// Print one JSON object instead of text.
-        #[arg(long)]
-        json: bool,
+    /// Generate the contact state graph of a fixed and a moving part within bounds.
+    Generate {
+        /// The fixed part A.
+        fixed: PathBuf,
+        /// The moving part B.
+        moving: PathBuf,
+        /// Misalignment bounds, e.g. x=-5:5,y=-5:5,z=0:240,rx=-18:18,ry=-18:18,rz=-18:18
+        /// (lengths in model units, angles in degrees; omitted components fixed at 0).
+        #[arg(long, allow_hyphen_values = true)]
+        bounds: String,
+        /// The assembled pose G of B in A's frame, x,y,z,rx,ry,rz with angles in degrees
+        /// (default: identity).
+        #[arg(long, allow_hyphen_values = true)]
+        assembled: Option<String>,
+        #[command(flatten)]
+        run: RunFlags,
     },
+    /// Generate the graph described by a task file (TOML: `fixed`, `moving`, a
+    /// `[bounds]` table with x, y, z, rx, ry, rz as [min, max] in model units and
+    /// degrees, an optional `[options]` table with degenerate, threads, assembled).
+    Run {
+        /// The task file.
+        task: PathBuf,
+        #[command(flatten)]
+        run: RunFlags,
+    },
+    /// Generate the graph of the built-in example (the paper's L-block and box, each
+    /// rotation within ±18°, x and y within ±5 mm, z from 0 to 240 mm): no files needed.
+    Demo {
+        #[command(flatten)]
+        run: RunFlags,
+    },
+}
+
+/// Options shared by the commands that generate a graph.
+#[derive(clap::Args)]
+struct RunFlags {
+    /// Write the graph's JSON here (atomically). `generate` prints it to stdout without
+    /// this; `run` writes `<task>.graph.json` beside the task file; `demo` writes
+    /// `acsg-demo.graph.json` in the current folder.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Keep states with a degenerate contact (v-v, e-v, v-e, e-e-t between convex
+    /// elements).
+    #[arg(long)]
+    degenerate: bool,
+    /// Worker threads (0: one per core). The output does not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Write zeros for the stage times, so that runs give identical bytes.
+    #[arg(long)]
+    no_timings: bool,
+    /// No summary and no progress bar.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 /// A bad argument value found after parsing (exit code 2, like clap's own errors).
@@ -146,11 +197,162 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let report = ContactScene::new(&fixed, &moving).evaluate(&placement, tol);
             print_contacts(&fixed, &moving, &pose, &g, &report, tol, json)
         }
-        Command::Demo { json } => {
-            let (fixed, moving) = acsg::examples::l_block_and_box();
-            print_inspection(&Inspection::of(&fixed, Some(&moving)), json)
+        Command::Generate {
+            fixed,
+            moving,
+            bounds,
+            assembled,
+            run,
+        } => {
+            let bounds = acsg::task::bounds_from_spec(&bounds).map_err(|e| UsageError(e.to_string()))?;
+            let mut options = Options::default();
+            if let Some(text) = assembled {
+                let g = Pose::parse(&text, true).map_err(|e| UsageError(format!("invalid --assembled: {e}")))?;
+                options.assembled = g.to_affine(&DAffine3::IDENTITY);
+            }
+            let names = [fixed.display().to_string(), moving.display().to_string()];
+            let parts = (Part::from_path(&fixed)?, Part::from_path(&moving)?);
+            generate_and_write(parts, names, bounds, options, run, None)
+        }
+        Command::Run { task, run } => {
+            let job = Task::from_path(&task)?;
+            let parts = (Part::from_path(&job.fixed)?, Part::from_path(&job.moving)?);
+            let default_output = task.with_extension("graph.json");
+            generate_and_write(
+                parts,
+                [job.fixed_given, job.moving_given],
+                job.bounds,
+                job.options,
+                run,
+                Some(default_output),
+            )
+        }
+        Command::Demo { run } => {
+            let parts = acsg::examples::l_block_and_box();
+            let names = ["builtin:l_block.off".to_string(), "builtin:box.off".to_string()];
+            let bounds = acsg::examples::paper_bounds();
+            let output = Some(PathBuf::from("acsg-demo.graph.json"));
+            generate_and_write(parts, names, bounds, Options::default(), run, output)
         }
     }
+}
+
+/// Generates a graph, prints its summary and writes its JSON (to `flags.output`, else
+/// `default_output`, else stdout).
+fn generate_and_write(
+    (fixed, moving): (Part, Part),
+    names: [String; 2],
+    bounds: Bounds,
+    mut options: Options,
+    flags: RunFlags,
+    default_output: Option<PathBuf>,
+) -> anyhow::Result<()> {
+    options.degenerate |= flags.degenerate;
+    if let Some(threads) = flags.threads {
+        options.threads = threads;
+    }
+    let bar = (!flags.quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(0);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} searches, {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let progress = |p: Progress| {
+        if let Some(bar) = &bar {
+            bar.set_prefix(format!("stage {}", p.stage));
+            bar.set_length(p.total as u64);
+            bar.set_position(p.done as u64);
+            bar.set_message(format!("{} states", p.states));
+        }
+    };
+    let mut graph = generate_with_progress(&fixed, &moving, &bounds, &options, &progress);
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    if flags.no_timings {
+        graph.stats.stage1_seconds = 0.0;
+        graph.stats.stage2_seconds = 0.0;
+    }
+    let document = Document::new(&graph, &fixed, &moving, &bounds, &options, [&names[0], &names[1]]);
+    let json = document.to_json();
+    let output = flags.output.or(default_output);
+    let to_stdout = output.is_none();
+    if !flags.quiet {
+        let summary = summary(&graph, &names, &bounds);
+        if to_stdout {
+            eprint!("{summary}");
+        } else {
+            print!("{summary}");
+        }
+    }
+    match output {
+        Some(path) => {
+            acsg::io::write_atomic(&path, json.as_bytes()).with_context(|| "writing the graph")?;
+            if !flags.quiet {
+                println!("wrote {}", path.display());
+            }
+        }
+        None => std::io::stdout().lock().write_all(json.as_bytes())?,
+    }
+    Ok(())
+}
+
+/// The run summary: parts, bounds, stages, and states by number of contacts and DOF.
+fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
+    use std::fmt::Write as _;
+    let s = &graph.stats;
+    let mut out = String::new();
+    let _ = writeln!(out, "fixed  {}\nmoving {}", names[0], names[1]);
+    let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+    let ranges: Vec<String> = ["x", "y", "z", "rx", "ry", "rz"]
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            if k < 3 {
+                format!("{n} [{}, {}]", lo[k], hi[k])
+            } else {
+                format!("{n} [{:.4}°, {:.4}°]", lo[k].to_degrees(), hi[k].to_degrees())
+            }
+        })
+        .collect();
+    let _ = writeln!(out, "bounds {}", ranges.join("  "));
+    let _ = writeln!(
+        out,
+        "stage 1  card(PPC) {}, {} ruled out without optimising, {} feasible; {} optimisations, {:.3} s",
+        s.ppc, s.ppc_unreachable, s.feasible_ppc, s.stage1_optimisations, s.stage1_seconds
+    );
+    let _ = writeln!(
+        out,
+        "stage 2  {} pairs: {} implied, {} topology, {} degenerate, {} duplicate, {} ruled out without optimising; \
+         {} searched ({} infeasible), {} optimisations, {} found on the way, {:.3} s",
+        s.stage2_pairs,
+        s.pruned_implied,
+        s.pruned_topology,
+        s.pruned_degenerate,
+        s.pruned_duplicate,
+        s.pruned_unreachable,
+        s.stage2_candidates,
+        s.infeasible,
+        s.stage2_optimisations,
+        s.found_on_the_way,
+        s.stage2_seconds
+    );
+    let _ = writeln!(
+        out,
+        "graph    {} states (free space included), {} edges",
+        s.states, s.edges
+    );
+    let mut table: std::collections::BTreeMap<(usize, u8), usize> = std::collections::BTreeMap::new();
+    for state in &graph.states {
+        *table.entry((state.contacts.len(), state.dof)).or_default() += 1;
+    }
+    let _ = writeln!(out, "\n  contacts  dof  states");
+    for ((contacts, dof), count) in table {
+        let _ = writeln!(out, "  {contacts:>8}  {dof:>3}  {count:>6}");
+    }
+    out
 }
 
 fn print_inspection(report: &Inspection, json: bool) -> anyhow::Result<()> {

@@ -42,7 +42,10 @@ pub fn l_block_and_box() -> (Part, Part) {
 /// A large slab (fixed) and a cube (moving) resting on it at the identity pose.
 #[must_use]
 pub fn cube_and_slab() -> (Part, Part) {
-    (builtin("builtin:slab.off", SLAB_OFF), builtin("builtin:cube.off", CUBE_OFF))
+    (
+        builtin("builtin:slab.off", SLAB_OFF),
+        builtin("builtin:cube.off", CUBE_OFF),
+    )
 }
 
 /// The bounds of the built-in example, as in the paper's run: each rotation within

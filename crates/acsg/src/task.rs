@@ -153,10 +153,11 @@ impl Task {
         })?;
         let b = &file.bounds;
         let pairs = [b.x, b.y, b.z, b.rx, b.ry, b.rz];
-        let bounds = Bounds::from_degrees(pairs.map(|p| p[0]), pairs.map(|p| p[1])).map_err(|source| TaskError::Bounds {
-            place: format!("{}: [bounds]", path.display()),
-            source,
-        })?;
+        let bounds =
+            Bounds::from_degrees(pairs.map(|p| p[0]), pairs.map(|p| p[1])).map_err(|source| TaskError::Bounds {
+                place: format!("{}: [bounds]", path.display()),
+                source,
+            })?;
         let mut options = Options {
             degenerate: file.options.degenerate,
             threads: file.options.threads,

@@ -3,7 +3,7 @@
 
 use acsg::contact::{ContactKind, ContactScene};
 use acsg::graph::{Graph, Options, generate};
-use acsg::model::Part;
+use acsg::model::{ElementId, Part};
 use acsg::pose::Bounds;
 use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
 use glam::DAffine3;
@@ -43,7 +43,11 @@ fn a_cube_free_to_turn_on_a_slab_has_26_states() {
     let k = kinds(&graph);
     let count = |kind: ContactKind| k.iter().filter(|s| **s == [kind]).count();
     assert_eq!(
-        (count(ContactKind::FaceVertex), count(ContactKind::FaceEdge), count(ContactKind::FaceFace)),
+        (
+            count(ContactKind::FaceVertex),
+            count(ContactKind::FaceEdge),
+            count(ContactKind::FaceFace)
+        ),
         (8, 12, 6)
     );
     assert_eq!(k.len(), 26);
@@ -59,22 +63,134 @@ fn a_cube_tilting_10_degrees_on_a_slab_has_9_states() {
     let k = kinds(&graph);
     let count = |kind: ContactKind| k.iter().filter(|s| **s == [kind]).count();
     assert_eq!(
-        (count(ContactKind::FaceVertex), count(ContactKind::FaceEdge), count(ContactKind::FaceFace)),
+        (
+            count(ContactKind::FaceVertex),
+            count(ContactKind::FaceEdge),
+            count(ContactKind::FaceFace)
+        ),
         (4, 4, 1)
     );
     assert_eq!(k.len(), 9);
     verify_witnesses(&slab, &cube, &bounds, &graph);
 }
 
+/// The vertices and edges in an element's closure, for the test's own one-PPC check.
+fn closure(part: &Part, e: ElementId) -> (Vec<ElementId>, Vec<ElementId>) {
+    match e {
+        ElementId::Vertex(v) => (vec![ElementId::Vertex(v)], vec![]),
+        ElementId::Edge(x) => (
+            part.edge(x).vertices.iter().map(|&v| ElementId::Vertex(v)).collect(),
+            vec![ElementId::Edge(x)],
+        ),
+        ElementId::Face(f) => (
+            part.face(f)
+                .loops
+                .iter()
+                .flat_map(|l| l.vertices.iter().map(|&v| ElementId::Vertex(v)))
+                .collect(),
+            part.face(f)
+                .loops
+                .iter()
+                .flat_map(|l| l.edges.iter().map(|&x| ElementId::Edge(x)))
+                .collect(),
+        ),
+    }
+}
+
 #[test]
-fn the_papers_example() {
+fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_one_ppc_steps() {
+    let (l_block, box_part) = acsg::examples::l_block_and_box();
+    assert_eq!(acsg::model::ppc_count(&l_block, &box_part).total(), 328);
+    let bounds = acsg::examples::paper_bounds();
+    let graph = generate(&l_block, &box_part, &bounds, &Options::default());
+    assert_eq!(graph.stats.ppc, 328);
+    // Every state is P(X) at its witness (so none is a redundant description), and the
+    // states are distinct.
+    verify_witnesses(&l_block, &box_part, &bounds, &graph);
+    let distinct: std::collections::BTreeSet<_> = graph.states.iter().map(|s| s.contacts.clone()).collect();
+    assert_eq!(distinct.len(), graph.states.len());
+    assert!(
+        graph.states.iter().all(|s| !s.degenerate),
+        "degenerate states are off by default"
+    );
+    // The floor contacts of the box's bottom corners (found by hand in stage 1's test)
+    // are there.
+    assert!(graph.states.iter().filter(|s| s.contacts.len() == 1).count() >= 4);
+
+    // Every edge joins states one PPC apart: checked at the larger state's witness, every
+    // contact of the smaller one still touches there (its elements' closures meet), and
+    // the larger one has one more contact or one contact of higher order.
+    let scene = ContactScene::new(&l_block, &box_part);
+    for &[a, b] in &graph.edges {
+        let (small, large) = (&graph.states[a], &graph.states[b]);
+        if a == 0 {
+            assert_eq!(large.contacts.len(), 1, "free space joins single contacts only");
+            continue;
+        }
+        let (small, large) = if (small.dof, large.contacts.len()) >= (large.dof, small.contacts.len()) {
+            (small, large)
+        } else {
+            (large, small)
+        };
+        let pose = large.witness.unwrap().to_affine(&DAffine3::IDENTITY);
+        for pc in &small.contacts {
+            // The small state's contact still touches at the large state's witness: some
+            // vertex or edge of one element's closure lies on the other's closure.
+            let report = scene.evaluate(&pose, CONTACT_REL);
+            let touching = report.contacts.iter().any(|c| {
+                let (fv, fe) = closure(&l_block, c.fixed);
+                let (mv, me) = closure(&box_part, c.moving);
+                let fixed_ok = c.fixed == pc.fixed || fv.contains(&pc.fixed) || fe.contains(&pc.fixed) || {
+                    let (pv, pe) = closure(&l_block, pc.fixed);
+                    pv.contains(&c.fixed) || pe.contains(&c.fixed)
+                };
+                let moving_ok = c.moving == pc.moving || mv.contains(&pc.moving) || me.contains(&pc.moving) || {
+                    let (pv, pe) = closure(&box_part, pc.moving);
+                    pv.contains(&c.moving) || pe.contains(&c.moving)
+                };
+                fixed_ok && moving_ok
+            });
+            assert!(
+                touching,
+                "edge {a}-{b}: {pc:?} of the smaller state is gone at the larger one's witness"
+            );
+        }
+        assert!(large.dof <= small.dof, "edge {a}-{b} does not constrain more");
+    }
+    // Connected: a search from free space reaches every state.
+    let mut seen = vec![false; graph.states.len()];
+    let mut stack = vec![0];
+    seen[0] = true;
+    while let Some(s) = stack.pop() {
+        for &[a, b] in &graph.edges {
+            for (x, y) in [(a, b), (b, a)] {
+                if x == s && !seen[y] {
+                    seen[y] = true;
+                    stack.push(y);
+                }
+            }
+        }
+    }
+    let unreached: Vec<usize> = (0..seen.len()).filter(|&i| !seen[i]).collect();
+    assert!(
+        unreached.is_empty(),
+        "states not connected to free space: {unreached:?}"
+    );
+}
+
+#[test]
+fn the_output_does_not_depend_on_the_thread_count() {
     let (l_block, box_part) = acsg::examples::l_block_and_box();
     let bounds = acsg::examples::paper_bounds();
-    let started = std::time::Instant::now();
-    let graph = generate(&l_block, &box_part, &bounds, &Options::default());
-    eprintln!("{:#?} in {:?}", graph.stats, started.elapsed());
-    for s in &graph.states {
-        eprintln!("{} {:?} dof {}", s.id, s.contacts.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>(), s.dof);
-    }
-    verify_witnesses(&l_block, &box_part, &bounds, &graph);
+    let run = |threads| {
+        let options = Options {
+            threads,
+            ..Options::default()
+        };
+        let mut graph = generate(&l_block, &box_part, &bounds, &options);
+        graph.stats.stage1_seconds = 0.0;
+        graph.stats.stage2_seconds = 0.0;
+        acsg::graph::Document::new(&graph, &l_block, &box_part, &bounds, &options, ["a", "b"]).to_json()
+    };
+    assert_eq!(run(1), run(2));
 }

@@ -19,9 +19,9 @@ use glam::{DAffine3, DVec3};
 
 use crate::contact::{ContactKind, ContactScene, PrincipalContact};
 use crate::model::{ElementId, FaceId, Part};
-use residual::{FaceShape, Margins, Side};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
+use residual::{FaceShape, Margins, Side};
 
 /// Every primitive principal contact (DOMAIN.md section 3): faces of the fixed part
 /// against convex vertices of the moving part (f-v), convex edges against convex edges
@@ -192,13 +192,16 @@ impl<'a> Problem<'a> {
             ]);
         }
         let g_inverse = self.assembled.inverse();
-        // Where the contact point should go (A's frame) and which point of B it is.
-        let goal = anchor_point(self.fixed, &self.fixed_faces, anchor.fixed);
-        let on_b = anchor_point(self.moving, &self.moving_faces, anchor.moving);
         orientations
             .into_iter()
             .take(count)
-            .map(|w| {
+            .enumerate()
+            .map(|(i, w)| {
+                // Where the contact point should go (A's frame) and which point of B it
+                // is: the elements' centres first, then other points of them, so that
+                // starts differ even when the rotation is fixed.
+                let goal = anchor_point(self.fixed, &self.fixed_faces, anchor.fixed, i);
+                let on_b = anchor_point(self.moving, &self.moving_faces, anchor.moving, i / 3);
                 let angle = |k: usize| lo[3 + k] + (hi[3 + k] - lo[3 + k]) * w[k];
                 let mut pose = Pose::from_array([0.0, 0.0, 0.0, angle(0), angle(1), angle(2)]);
                 let t = g_inverse.transform_point3(goal) - pose.rotation() * on_b;
@@ -314,7 +317,8 @@ impl<'a> Problem<'a> {
                     part.vertex(v).edges.iter().filter_map(move |&x| {
                         let [a, b] = part.edge(x).vertices;
                         let w = if a == v { b } else { a };
-                        (!closure_has_edge(part, e, x)).then(|| (part.vertex(w).position - part.vertex(v).position).normalize())
+                        (!closure_has_edge(part, e, x))
+                            .then(|| (part.vertex(w).position - part.vertex(v).position).normalize())
                     })
                 })
                 .collect()
@@ -451,12 +455,6 @@ impl<'a> Problem<'a> {
                 others.push((state, pose));
             }
         }
-        if std::env::var("ACSG_DEBUG").is_ok() {
-            let mut r = Vec::new();
-            let pose = self.solve(target, warm.first().copied().unwrap_or_else(|| self.starts(anchor, 1)[0]));
-            self.residuals(target, &pose, true, &mut r);
-            eprintln!("NOTFOUND {:?} residuals {:?}", target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>(), r.iter().map(|x| format!("{x:.2e}")).collect::<Vec<_>>());
-        }
         Search::NotFound { others }
     }
 
@@ -558,14 +556,21 @@ pub fn is_primitive(pc: &PrincipalContact) -> bool {
     )
 }
 
-/// A representative point of an element: a face's inner point, an edge's midpoint, a
-/// vertex.
-fn anchor_point(part: &Part, faces: &[FaceShape], e: ElementId) -> DVec3 {
+/// The `k`-th representative point of an element: a face's inner point then its
+/// interior samples; an edge's midpoint, then its quarter points; a vertex.
+fn anchor_point(part: &Part, faces: &[FaceShape], e: ElementId, k: usize) -> DVec3 {
     match e {
-        ElementId::Face(f) => faces[f.index()].inner,
+        ElementId::Face(f) => {
+            let face = &faces[f.index()];
+            match k {
+                0 => face.inner,
+                _ if face.samples.is_empty() => face.inner,
+                _ => face.samples[(k * 7) % face.samples.len()],
+            }
+        }
         ElementId::Edge(x) => {
             let [a, b] = part.edge_points(x);
-            (a + b) * 0.5
+            a.lerp(b, [0.5, 0.25, 0.75][k % 3])
         }
         ElementId::Vertex(v) => part.vertex(v).position,
     }

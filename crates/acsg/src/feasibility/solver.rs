@@ -88,9 +88,9 @@ pub(crate) fn minimise(residuals: impl Fn(&Pose, &mut Vec<f64>), start: Pose, bo
             let at_lower = x[i] <= lo[i] + 1e-12 * span && g[i] > 0.0;
             let at_upper = x[i] >= hi[i] - 1e-12 * span && g[i] < 0.0;
             if at_lower || at_upper || hi[i] <= lo[i] {
-                for k in 0..6 {
-                    a[i][k] = 0.0;
-                    a[k][i] = 0.0;
+                a[i] = [0.0; 6];
+                for row in &mut a {
+                    row[i] = 0.0;
                 }
                 a[i][i] = 1.0;
                 g[i] = 0.0;

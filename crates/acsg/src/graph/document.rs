@@ -89,7 +89,14 @@ pub struct WitnessRecord {
 impl Document {
     /// The document of a graph; `paths` are the parts' paths as the user gave them.
     #[must_use]
-    pub fn new(graph: &Graph, fixed: &Part, moving: &Part, bounds: &Bounds, options: &Options, paths: [&str; 2]) -> Document {
+    pub fn new(
+        graph: &Graph,
+        fixed: &Part,
+        moving: &Part,
+        bounds: &Bounds,
+        options: &Options,
+        paths: [&str; 2],
+    ) -> Document {
         let mut fixed_elements = PartElements::of(fixed);
         fixed_elements.path = paths[0].to_string();
         let mut moving_elements = PartElements::of(moving);

@@ -31,11 +31,17 @@ fn constraints(fixed: &Part, moving: &Part, pc: &PrincipalContact, t: &DAffine3)
             ElementId::Edge(x) => part.edge(x).faces.to_vec(),
             ElementId::Face(f) => vec![f],
         };
-        faces.into_iter().map(|f| map.transform_vector3(part.face(f).normal)).collect()
+        faces
+            .into_iter()
+            .map(|f| map.transform_vector3(part.face(f).normal))
+            .collect()
     };
     let id = DAffine3::IDENTITY;
     let all = |points: Vec<DVec3>, normals: Vec<DVec3>| -> Vec<(DVec3, DVec3)> {
-        points.iter().flat_map(|&p| normals.iter().map(move |&n| (p, n))).collect()
+        points
+            .iter()
+            .flat_map(|&p| normals.iter().map(move |&n| (p, n)))
+            .collect()
     };
     match pc.kind {
         ContactKind::FaceVertex | ContactKind::FaceEdge | ContactKind::FaceFace => {
@@ -45,8 +51,12 @@ fn constraints(fixed: &Part, moving: &Part, pc: &PrincipalContact, t: &DAffine3)
             all(points_of(fixed, pc.fixed, &id), normals_at(moving, pc.moving, t))
         }
         ContactKind::EdgeEdge => {
-            let [a0, a1] = points_of(fixed, pc.fixed, &id)[..] else { return vec![] };
-            let [b0, b1] = points_of(moving, pc.moving, t)[..] else { return vec![] };
+            let [a0, a1] = points_of(fixed, pc.fixed, &id)[..] else {
+                return vec![];
+            };
+            let [b0, b1] = points_of(moving, pc.moving, t)[..] else {
+                return vec![];
+            };
             vec![(a0.lerp(a1, 0.5).lerp(b0.lerp(b1, 0.5), 0.5), (a1 - a0).cross(b1 - b0))]
         }
         // A vertex held in an edge: it stays on the edge's line (the faces' normals

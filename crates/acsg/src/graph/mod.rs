@@ -271,7 +271,13 @@ impl<'a> Generator<'a> {
         }
         let id = self.states.len();
         let placement = witness.to_affine(&self.options.assembled);
-        let dof = state_dof(self.fixed, self.moving, &contacts, &placement, self.problem.scene().scale());
+        let dof = state_dof(
+            self.fixed,
+            self.moving,
+            &contacts,
+            &placement,
+            self.problem.scene().scale(),
+        );
         self.seen.insert(contacts.clone());
         self.index.insert(contacts.clone(), id);
         self.states.push(State {
@@ -355,17 +361,11 @@ impl<'a> Generator<'a> {
                 self.stats.stage2_optimisations += stats.optimisations;
                 match search {
                     Search::Found(pose) => {
-                        if std::env::var("ACSG_DEBUG").is_ok() {
-                            eprintln!("FOUND {:?}", candidate.target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>());
-                        }
                         if let Some((id, true)) = self.add_state(candidate.target, pose) {
                             frontier.push(id);
                         }
                     }
                     Search::NotFound { others } => {
-                        if std::env::var("ACSG_DEBUG").is_ok() {
-                            eprintln!("infeasible {:?} from {}", candidate.target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>(), candidate.parent);
-                        }
                         self.stats.infeasible += 1;
                         for (state, pose) in others {
                             if let Some((id, true)) = self.add_state(state, pose) {
@@ -374,12 +374,7 @@ impl<'a> Generator<'a> {
                             }
                         }
                     }
-                    Search::Unreachable => {
-                        if std::env::var("ACSG_DEBUG").is_ok() {
-                            eprintln!("UNREACHABLE {:?}", candidate.target.iter().map(|c| format!("{}-{}", c.fixed, c.moving)).collect::<Vec<_>>());
-                        }
-                        self.stats.infeasible += 1
-                    }
+                    Search::Unreachable => self.stats.infeasible += 1,
                 }
             }
         }
@@ -441,7 +436,9 @@ impl<'a> Generator<'a> {
             for (ppc, _) in feasible.iter().filter(|(p, _)| !implied.contains(p)) {
                 for target in rules::grow(self.fixed, self.moving, &state.contacts, *ppc) {
                     if let Some(&other) = self.index.get(&target) {
-                        if other != state.id {
+                        // Making one PPC keeps every PPC the state had.
+                        let keeps = rules::state_primitives(self.fixed, self.moving, &target).is_superset(&implied);
+                        if other != state.id && keeps {
                             edges.insert([state.id.min(other), state.id.max(other)]);
                         }
                     }

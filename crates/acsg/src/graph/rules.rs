@@ -91,7 +91,12 @@ pub fn join(part: &Part, x: ElementId, y: ElementId) -> Option<ElementId> {
         return Some(y);
     }
     if let (ElementId::Vertex(a), ElementId::Vertex(b)) = (x, y) {
-        if let Some(&e) = part.vertex(a).edges.iter().find(|e| part.edge(**e).vertices.contains(&b)) {
+        if let Some(&e) = part
+            .vertex(a)
+            .edges
+            .iter()
+            .find(|e| part.edge(**e).vertices.contains(&b))
+        {
             return Some(ElementId::Edge(e));
         }
     }
@@ -244,7 +249,12 @@ fn close(fixed: &Part, moving: &Part, list: Vec<PrincipalContact>, out: &mut BTr
 /// The states a state plus one primitive contact can map to (TopUniqDesc); empty when
 /// topological existence rules the combination out.
 #[must_use]
-pub fn grow(fixed: &Part, moving: &Part, state: &[PrincipalContact], added: PrincipalContact) -> Vec<Vec<PrincipalContact>> {
+pub fn grow(
+    fixed: &Part,
+    moving: &Part,
+    state: &[PrincipalContact],
+    added: PrincipalContact,
+) -> Vec<Vec<PrincipalContact>> {
     let mut list = state.to_vec();
     list.push(added);
     let mut out = BTreeSet::new();

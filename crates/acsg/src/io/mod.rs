@@ -303,7 +303,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut attempt = 0;
     while temporary.exists() {
         attempt += 1;
-        temporary = folder.join(format!(".{}.{}.{attempt}.tmp", file_name.to_string_lossy(), std::process::id()));
+        temporary = folder.join(format!(
+            ".{}.{}.{attempt}.tmp",
+            file_name.to_string_lossy(),
+            std::process::id()
+        ));
     }
     let result = (|| {
         let mut file = std::fs::File::create(&temporary)?;
