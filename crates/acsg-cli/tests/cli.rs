@@ -78,12 +78,150 @@ fn inspect_text_names_both_roles_and_card_ppc() {
 }
 
 #[test]
-fn demo_runs_with_no_files() {
+fn demo_runs_with_no_files_and_writes_a_consistent_graph() {
+    let dir = tempfile::tempdir().unwrap();
     acsg()
         .arg("demo")
+        .current_dir(dir.path())
         .assert()
         .success()
-        .stdout(contains("card(PPC) = 328"));
+        .stdout(contains("card(PPC) 328").and(contains("wrote acsg-demo.graph.json")));
+    let text = std::fs::read_to_string(dir.path().join("acsg-demo.graph.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["format"], "acsg-graph/1");
+    assert!(v["convention"].as_str().unwrap().contains("Rz(rz)*Ry(ry)*Rx(rx)"));
+    let states = v["states"].as_array().unwrap();
+    assert_eq!(states.len() as u64, v["stats"]["states"].as_u64().unwrap());
+    assert_eq!(v["stats"]["ppc"], 328);
+    let (faces, edges, vertices) = (
+        v["fixed"]["faces"].as_array().unwrap().len(),
+        v["fixed"]["edges"].as_array().unwrap().len(),
+        v["fixed"]["vertices"].as_array().unwrap().len(),
+    );
+    assert_eq!((faces, edges, vertices), (8, 18, 12));
+    // Ids index the parts' arrays; each witness has six values and a rigid 4x4 matrix.
+    for state in &states[1..] {
+        for c in state["contacts"].as_array().unwrap() {
+            for (role, id) in [("fixed", &c["fixed"]), ("moving", &c["moving"])] {
+                let id = id.as_str().unwrap();
+                let (kind, index) = id.split_at(1);
+                let array = match kind {
+                    "f" => "faces",
+                    "e" => "edges",
+                    _ => "vertices",
+                };
+                assert!(index.parse::<usize>().unwrap() < v[role][array].as_array().unwrap().len());
+            }
+        }
+        let witness = &state["witness"];
+        assert_eq!(witness["pose"].as_array().unwrap().len(), 6);
+        assert_eq!(witness["matrix"][3], serde_json::json!([0.0, 0.0, 0.0, 1.0]));
+    }
+    for edge in v["edges"].as_array().unwrap() {
+        assert!(edge[0].as_u64().unwrap() < edge[1].as_u64().unwrap());
+        assert!(edge[1].as_u64().unwrap() < states.len() as u64);
+    }
+}
+
+/// A task file next to its parts: paths relative to the task, as given in the output;
+/// a cube tilting 10 degrees on a slab has 9 states besides free space.
+#[test]
+fn run_reads_a_task_file_and_writes_the_graph_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(fixture("cube.off"), dir.path().join("cube.off")).unwrap();
+    std::fs::copy(fixture("slab.off"), dir.path().join("slab.off")).unwrap();
+    let task = dir.path().join("cube.toml");
+    std::fs::write(
+        &task,
+        "fixed = \"slab.off\"\nmoving = \"cube.off\"\n[bounds]\nx = [-1, 1]\ny = [-1, 1]\nz = [0, 30]\n\
+         rx = [-10, 10]\nry = [-10, 10]\nrz = [-180, 180]\n",
+    )
+    .unwrap();
+    acsg().arg("run").arg(&task).assert().success();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cube.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["fixed"]["path"], "slab.off");
+    assert_eq!(v["states"].as_array().unwrap().len(), 10);
+    assert!((v["bounds"]["max"][3].as_f64().unwrap() - 10f64.to_radians()).abs() < 1e-15);
+}
+
+#[test]
+fn generate_with_flags_prints_json_and_is_deterministic() {
+    let run = |threads: &str| {
+        acsg()
+            .arg("generate")
+            .arg(fixture("slab.off"))
+            .arg(fixture("cube.off"))
+            .args(["--bounds", "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180"])
+            .args(["--threads", threads, "--no-timings", "-q"])
+            .output()
+            .unwrap()
+    };
+    let (one, two) = (run("1"), run("2"));
+    assert!(one.status.success(), "{}", String::from_utf8_lossy(&one.stderr));
+    assert_eq!(one.stdout, two.stdout);
+    let v: serde_json::Value = serde_json::from_slice(&one.stdout).unwrap();
+    assert_eq!(v["states"].as_array().unwrap().len(), 10);
+}
+
+#[test]
+fn bad_bounds_and_task_files_are_refused_clearly() {
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "x=1:-1"])
+        .assert()
+        .code(2)
+        .stderr(contains("x").and(contains("min")));
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "w=0:1"])
+        .assert()
+        .code(2)
+        .stderr(contains("unknown component 'w'"));
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [1, -1]\ny = [0, 0]\nz = [0, 0]\nrx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n",
+            "[bounds]",
+        ),
+        (
+            "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [0, 1]\n",
+            "missing field",
+        ),
+        ("fixed = \"a.off\"\nmoving = \"b.off\"\ncolour = 3\n", "unknown field"),
+        ("fixed = \"a.off\"\nmoving = \n", ":2:"),
+    ];
+    for (i, (text, fragment)) in cases.iter().enumerate() {
+        let task = dir.path().join(format!("bad{i}.toml"));
+        std::fs::write(&task, text).unwrap();
+        acsg()
+            .arg("run")
+            .arg(&task)
+            .assert()
+            .code(1)
+            .stderr(contains(format!("bad{i}.toml")).and(contains(*fragment)));
+    }
+}
+
+#[test]
+fn a_failed_run_leaves_an_existing_output_file_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("graph.json");
+    std::fs::write(&out, "previous result").unwrap();
+    acsg()
+        .arg("generate")
+        .arg(fixture("bad/open_box.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "z=0:1"])
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .code(1);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "previous result");
 }
 
 /// Each bad input: the file, its message fragments, and the exit code 1.
