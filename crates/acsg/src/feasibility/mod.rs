@@ -433,13 +433,12 @@ impl<'a> Problem<'a> {
         constructive: usize,
         stats: &mut SearchStats,
     ) -> Search {
-        match self.excluded(target) {
-            Some(Exclusion::Unreachable) => stats.pruned += 1,
-            Some(Exclusion::Misoriented) => stats.misoriented += 1,
-            Some(Exclusion::Incompatible) => stats.incompatible += 1,
-            None => {}
-        }
-        if stats.pruned + stats.misoriented + stats.incompatible > 0 {
+        if let Some(reason) = self.excluded(target) {
+            match reason {
+                Exclusion::Unreachable => stats.pruned += 1,
+                Exclusion::Misoriented => stats.misoriented += 1,
+                Exclusion::Incompatible => stats.incompatible += 1,
+            }
             return Search::Unreachable;
         }
         let mut others: Vec<(Vec<PrincipalContact>, Pose)> = Vec::new();
