@@ -139,7 +139,9 @@ fn element_convex(part: &Part, e: ElementId) -> bool {
     }
 }
 
-fn kind_of(a: ElementId, b: ElementId, along_segment: bool) -> ContactKind {
+/// The kind of a contact between two elements; two edges touching along a segment are
+/// e-e-t, otherwise e-e.
+pub(crate) fn kind_of(a: ElementId, b: ElementId, along_segment: bool) -> ContactKind {
     use ElementId::{Edge, Face, Vertex};
     match (a, b) {
         (Face(_), Face(_)) => ContactKind::FaceFace,

@@ -219,9 +219,10 @@ impl<'a> Problem<'a> {
         if self.assembled != DAffine3::IDENTITY {
             return false; // the enclosure assumes G = identity
         }
-        let fixed_box = |e: ElementId| bounds_of(points_of(self.fixed, e));
+        let fixed_box = |e: ElementId| bounds_of(self.fixed.outline_points(e));
         let moving_box = |e: ElementId| {
-            points_of(self.moving, e)
+            self.moving
+                .outline_points(e)
                 .into_iter()
                 .map(|p| enclosure.reach.of(p))
                 .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| {
@@ -309,22 +310,23 @@ impl<'a> Problem<'a> {
             }
             (min, max)
         };
+        let spans_zero = |(min, max): (f64, f64)| min <= slack && max >= -slack;
         let leaving = |part: &Part, e: ElementId| -> Vec<DVec3> {
-            let inside = closure_vertices(part, e);
+            let inside = part.closure_vertices(e);
             inside
                 .iter()
                 .flat_map(|&v| {
                     part.vertex(v).edges.iter().filter_map(move |&x| {
                         let [a, b] = part.edge(x).vertices;
                         let w = if a == v { b } else { a };
-                        (!closure_has_edge(part, e, x))
+                        (!part.in_closure(e, ElementId::Edge(x)))
                             .then(|| (part.vertex(w).position - part.vertex(v).position).normalize())
                     })
                 })
                 .collect()
         };
         let within = |part: &Part, e: ElementId| -> Vec<DVec3> {
-            closure_edges(part, e)
+            part.closure_edges(e)
                 .into_iter()
                 .map(|x| {
                     let [a, b] = part.edge_points(x);
@@ -336,9 +338,7 @@ impl<'a> Problem<'a> {
             (ElementId::Face(f), b) => {
                 let n = self.fixed.face(f).normal;
                 let out_ok = leaving(self.moving, b).into_iter().all(|d| range(n, d).1 >= -slack);
-                let along_ok = within(self.moving, b)
-                    .into_iter()
-                    .all(|d| range(n, d).0 <= slack && range(n, d).1 >= -slack);
+                let along_ok = within(self.moving, b).into_iter().all(|d| spans_zero(range(n, d)));
                 let facing_ok = match b {
                     ElementId::Face(g) => range(n, self.moving.face(g).normal).0 <= -1.0 + slack,
                     _ => true,
@@ -349,9 +349,7 @@ impl<'a> Problem<'a> {
                 // In B's frame: A's directions d against R n_g, i.e. d · (R n_g).
                 let n = self.moving.face(g).normal;
                 let out_ok = leaving(self.fixed, a).into_iter().all(|d| range(d, n).1 >= -slack);
-                let along_ok = within(self.fixed, a)
-                    .into_iter()
-                    .all(|d| range(d, n).0 <= slack && range(d, n).1 >= -slack);
+                let along_ok = within(self.fixed, a).into_iter().all(|d| spans_zero(range(d, n)));
                 out_ok && along_ok
             }
             _ => true,
@@ -366,10 +364,11 @@ impl<'a> Problem<'a> {
         let range = |fixed: bool, a: ElementId, b: ElementId| {
             let part = if fixed { self.fixed } else { self.moving };
             let min = self.scene.distance_within(fixed, a, b);
-            let max = closure_vertices(part, a)
+            let max = part
+                .closure_vertices(a)
                 .iter()
                 .flat_map(|&v| {
-                    closure_vertices(part, b)
+                    part.closure_vertices(b)
                         .into_iter()
                         .map(move |w| part.vertex(v).position.distance(part.vertex(w).position))
                 })
@@ -388,19 +387,26 @@ impl<'a> Problem<'a> {
         true
     }
 
-    /// The contact state at a pose if the pose is a clean witness of it: inside the
-    /// bounds, no penetration, some contact, and every pair that does not touch at least
-    /// the separation tolerance apart. This is the independent check every reported
-    /// witness passes (the contact module's P(X), not the optimiser's residuals).
+    /// The contact state at a pose if the pose is clean: inside the bounds, no
+    /// penetration, and every pair that does not touch at least the separation tolerance
+    /// apart. Empty for a clean pose in free space.
     #[must_use]
-    pub fn verify(&self, pose: &Pose) -> Option<Vec<PrincipalContact>> {
+    pub fn clean_state(&self, pose: &Pose) -> Option<Vec<PrincipalContact>> {
         let angle_tol = 1e-12;
         if !self.bounds.contains(pose, scaled(CONTACT_REL, self.scale), angle_tol) {
             return None;
         }
         let report = self.scene.evaluate(&self.placement(pose), CONTACT_REL);
         let clear = report.min_gap.is_none_or(|g| g >= scaled(SEPARATION_REL, self.scale));
-        (report.penetration == 0.0 && !report.contacts.is_empty() && clear).then_some(report.contacts)
+        (report.penetration == 0.0 && clear).then_some(report.contacts)
+    }
+
+    /// The contact state a pose witnesses: [`Problem::clean_state`] with some contact.
+    /// This is the independent check every reported witness passes (the contact
+    /// module's P(X), not the optimiser's residuals).
+    #[must_use]
+    pub fn verify(&self, pose: &Pose) -> Option<Vec<PrincipalContact>> {
+        self.clean_state(pose).filter(|contacts| !contacts.is_empty())
     }
 
     /// One local optimisation in two phases: the contacts alone first (cheap, and for
@@ -517,32 +523,6 @@ fn rotation_only(bounds: &Bounds) -> Bounds {
     Bounds::try_new(lo, hi).unwrap_or(*bounds)
 }
 
-/// The vertices in an element's closure.
-fn closure_vertices(part: &Part, e: ElementId) -> Vec<crate::model::VertexId> {
-    match e {
-        ElementId::Vertex(v) => vec![v],
-        ElementId::Edge(x) => part.edge(x).vertices.to_vec(),
-        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.vertices.clone()).collect(),
-    }
-}
-
-/// The edges in an element's closure.
-fn closure_edges(part: &Part, e: ElementId) -> Vec<crate::model::EdgeId> {
-    match e {
-        ElementId::Vertex(_) => Vec::new(),
-        ElementId::Edge(x) => vec![x],
-        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.edges.clone()).collect(),
-    }
-}
-
-fn closure_has_edge(part: &Part, e: ElementId, x: crate::model::EdgeId) -> bool {
-    match e {
-        ElementId::Vertex(_) => false,
-        ElementId::Edge(y) => x == y,
-        ElementId::Face(f) => part.edge(x).faces.contains(&f),
-    }
-}
-
 /// Whether a contact is of a primitive kind (f-v, v-f or e-e) between elements of the
 /// matching dimensions.
 #[must_use]
@@ -572,20 +552,6 @@ fn anchor_point(part: &Part, faces: &[FaceShape], e: ElementId, k: usize) -> DVe
             a.lerp(b, [0.5, 0.25, 0.75][k % 3])
         }
         ElementId::Vertex(v) => part.vertex(v).position,
-    }
-}
-
-fn points_of(part: &Part, e: ElementId) -> Vec<DVec3> {
-    match e {
-        ElementId::Vertex(v) => vec![part.vertex(v).position],
-        ElementId::Edge(x) => part.edge_points(x).to_vec(),
-        ElementId::Face(f) => part
-            .face(f)
-            .outer()
-            .vertices
-            .iter()
-            .map(|&v| part.vertex(v).position)
-            .collect(),
     }
 }
 

@@ -99,16 +99,15 @@ pub(crate) fn hinge(value: f64, margin: f64) -> f64 {
     (margin - value).max(0.0)
 }
 
-/// One part's side of a contact: the part, its face shapes, and the map taking the
-/// other part's points into this part's frame (with its inverse).
+/// One part's side of a contact: the part and its face shapes.
 #[derive(Clone, Copy)]
 pub(crate) struct Side<'p> {
     pub part: &'p Part,
     pub faces: &'p [FaceShape],
 }
 
-/// The working margins: the global interior margin and how much clearance a
-/// neighbouring corner at distance `d` must keep.
+/// The interior margin, from which the clearances of neighbouring corners and the
+/// margins along edges follow.
 #[derive(Clone, Copy)]
 pub(crate) struct Margins {
     pub margin: f64,

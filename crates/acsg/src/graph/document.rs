@@ -141,7 +141,8 @@ impl Document {
     /// Pretty JSON text, ending with a newline.
     #[must_use]
     pub fn to_json(&self) -> String {
-        let mut text = serde_json::to_string_pretty(self).unwrap_or_default();
+        // Plain structs of numbers, strings and arrays: serialising cannot fail.
+        let mut text = serde_json::to_string_pretty(self).expect("a document serialises");
         text.push('\n');
         text
     }

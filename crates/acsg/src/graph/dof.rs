@@ -12,26 +12,13 @@ use crate::model::{ElementId, Part};
 /// Contact points (A's frame) with the directions they block.
 fn constraints(fixed: &Part, moving: &Part, pc: &PrincipalContact, t: &DAffine3) -> Vec<(DVec3, DVec3)> {
     let points_of = |part: &Part, e: ElementId, map: &DAffine3| -> Vec<DVec3> {
-        let raw: Vec<DVec3> = match e {
-            ElementId::Vertex(v) => vec![part.vertex(v).position],
-            ElementId::Edge(x) => part.edge_points(x).to_vec(),
-            ElementId::Face(f) => part
-                .face(f)
-                .outer()
-                .vertices
-                .iter()
-                .map(|&v| part.vertex(v).position)
-                .collect(),
-        };
-        raw.into_iter().map(|p| map.transform_point3(p)).collect()
+        part.outline_points(e)
+            .into_iter()
+            .map(|p| map.transform_point3(p))
+            .collect()
     };
     let normals_at = |part: &Part, e: ElementId, map: &DAffine3| -> Vec<DVec3> {
-        let faces = match e {
-            ElementId::Vertex(v) => part.vertex(v).faces.clone(),
-            ElementId::Edge(x) => part.edge(x).faces.to_vec(),
-            ElementId::Face(f) => vec![f],
-        };
-        faces
+        part.faces_around(e)
             .into_iter()
             .map(|f| map.transform_vector3(part.face(f).normal))
             .collect()

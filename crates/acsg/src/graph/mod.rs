@@ -31,7 +31,6 @@ use crate::contact::PrincipalContact;
 use crate::feasibility::{Problem, Search, SearchStats, is_primitive, primitive_contacts};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose};
-use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 
 pub use document::Document;
 pub use dof::state_dof;
@@ -243,15 +242,12 @@ impl<'a> Generator<'a> {
         for corner in 0..64u32 {
             probes.push(std::array::from_fn(|k| f64::from((corner >> k) & 1)));
         }
-        let scale = self.problem.scene().scale();
         probes.into_iter().find_map(|w| {
             let pose = Pose::from_array(std::array::from_fn(|k| lo[k] + (hi[k] - lo[k]) * w[k]));
-            let report = self
-                .problem
-                .scene()
-                .evaluate(&pose.to_affine(&self.options.assembled), CONTACT_REL);
-            let clear = report.min_gap.is_none_or(|g| g >= scaled(SEPARATION_REL, scale));
-            (report.contacts.is_empty() && report.penetration == 0.0 && clear).then_some(pose)
+            self.problem
+                .clean_state(&pose)
+                .is_some_and(|c| c.is_empty())
+                .then_some(pose)
         })
     }
 

@@ -10,65 +10,27 @@ use std::collections::BTreeSet;
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 
-/// Whether `inner` lies in the closure of `outer` (an element is in its own closure).
-#[must_use]
-pub fn in_closure(part: &Part, outer: ElementId, inner: ElementId) -> bool {
-    use ElementId::{Edge, Face, Vertex};
-    match (outer, inner) {
-        _ if outer == inner => true,
-        (Face(f), Edge(e)) => part.edge(e).faces.contains(&f),
-        (Face(f), Vertex(v)) => part.vertex(v).faces.contains(&f),
-        (Edge(e), Vertex(v)) => part.edge(e).vertices.contains(&v),
-        _ => false,
-    }
-}
-
-/// The vertices in an element's closure.
-fn closure_vertices(part: &Part, e: ElementId) -> Vec<VertexId> {
-    match e {
-        ElementId::Vertex(v) => vec![v],
-        ElementId::Edge(x) => part.edge(x).vertices.to_vec(),
-        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.vertices.clone()).collect(),
-    }
-}
-
-/// The edges in an element's closure.
-fn closure_edges(part: &Part, e: ElementId) -> Vec<EdgeId> {
-    match e {
-        ElementId::Vertex(_) => Vec::new(),
-        ElementId::Edge(x) => vec![x],
-        ElementId::Face(f) => part.face(f).loops.iter().flat_map(|l| l.edges.clone()).collect(),
-    }
-}
-
-/// The faces whose closure holds an element.
-fn faces_around(part: &Part, e: ElementId) -> Vec<FaceId> {
-    match e {
-        ElementId::Vertex(v) => part.vertex(v).faces.clone(),
-        ElementId::Edge(x) => part.edge(x).faces.to_vec(),
-        ElementId::Face(f) => vec![f],
-    }
-}
-
 /// The largest elements in the intersection of two closures: where one point touching
 /// both can lie. Empty when the closures are disjoint.
 #[must_use]
 pub fn meet(part: &Part, x: ElementId, y: ElementId) -> Vec<ElementId> {
-    if in_closure(part, x, y) {
+    if part.in_closure(x, y) {
         return vec![y];
     }
-    if in_closure(part, y, x) {
+    if part.in_closure(y, x) {
         return vec![x];
     }
-    let edges_y: BTreeSet<EdgeId> = closure_edges(part, y).into_iter().collect();
-    let shared_edges: Vec<EdgeId> = closure_edges(part, x)
+    let edges_y: BTreeSet<EdgeId> = part.closure_edges(y).into_iter().collect();
+    let shared_edges: Vec<EdgeId> = part
+        .closure_edges(x)
         .into_iter()
         .filter(|e| edges_y.contains(e))
         .collect::<BTreeSet<_>>()
         .into_iter()
         .collect();
-    let vertices_y: BTreeSet<VertexId> = closure_vertices(part, y).into_iter().collect();
-    let shared_vertices = closure_vertices(part, x)
+    let vertices_y: BTreeSet<VertexId> = part.closure_vertices(y).into_iter().collect();
+    let shared_vertices = part
+        .closure_vertices(x)
         .into_iter()
         .filter(|v| vertices_y.contains(v))
         .filter(|&v| !shared_edges.iter().any(|&e| part.edge(e).vertices.contains(&v)))
@@ -84,10 +46,10 @@ pub fn meet(part: &Part, x: ElementId, y: ElementId) -> Vec<ElementId> {
 /// one. `None` when there is none or it is not unique.
 #[must_use]
 pub fn join(part: &Part, x: ElementId, y: ElementId) -> Option<ElementId> {
-    if in_closure(part, x, y) {
+    if part.in_closure(x, y) {
         return Some(x);
     }
-    if in_closure(part, y, x) {
+    if part.in_closure(y, x) {
         return Some(y);
     }
     if let (ElementId::Vertex(a), ElementId::Vertex(b)) = (x, y) {
@@ -100,8 +62,9 @@ pub fn join(part: &Part, x: ElementId, y: ElementId) -> Option<ElementId> {
             return Some(ElementId::Edge(e));
         }
     }
-    let around_y = faces_around(part, y);
-    let common: Vec<FaceId> = faces_around(part, x)
+    let around_y = part.faces_around(y);
+    let common: Vec<FaceId> = part
+        .faces_around(x)
         .into_iter()
         .filter(|f| around_y.contains(f))
         .collect();
@@ -111,28 +74,12 @@ pub fn join(part: &Part, x: ElementId, y: ElementId) -> Option<ElementId> {
     }
 }
 
-/// The kind of a contact between two elements; two edges merged from two contacts lie
-/// along each other (e-e-t).
-fn kind_between(a: ElementId, b: ElementId) -> ContactKind {
-    use ElementId::{Edge, Face, Vertex};
-    match (a, b) {
-        (Face(_), Face(_)) => ContactKind::FaceFace,
-        (Face(_), Edge(_)) => ContactKind::FaceEdge,
-        (Edge(_), Face(_)) => ContactKind::EdgeFace,
-        (Face(_), Vertex(_)) => ContactKind::FaceVertex,
-        (Vertex(_), Face(_)) => ContactKind::VertexFace,
-        (Edge(_), Edge(_)) => ContactKind::EdgeEdgeTouch,
-        (Edge(_), Vertex(_)) => ContactKind::EdgeVertex,
-        (Vertex(_), Edge(_)) => ContactKind::VertexEdge,
-        (Vertex(_), Vertex(_)) => ContactKind::VertexVertex,
-    }
-}
-
 fn contact(a: ElementId, b: ElementId) -> PrincipalContact {
     PrincipalContact {
         fixed: a,
         moving: b,
-        kind: kind_between(a, b),
+        // Two edges merged from two contacts lie along each other (e-e-t).
+        kind: crate::contact::kind_of(a, b, true),
     }
 }
 
@@ -196,9 +143,9 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
             // say): the two may also be one contact at the lower elements, e.g. f-v plus
             // e-e through that vertex on the face's edge is f-e or e-v.
             let lower = |part: &Part, x: ElementId, y: ElementId| {
-                if in_closure(part, x, y) {
+                if part.in_closure(x, y) {
                     Some(y)
-                } else if in_closure(part, y, x) {
+                } else if part.in_closure(y, x) {
                     Some(x)
                 } else {
                     None
@@ -276,38 +223,38 @@ pub fn implied_primitives(fixed: &Part, moving: &Part, pc: &PrincipalContact) ->
     let (face_vertex, vertex_face, edge_edge) = match pc.kind {
         K::FaceVertex | K::VertexFace | K::EdgeEdge => ((vec![], vec![]), (vec![], vec![]), (vec![], vec![])),
         K::FaceEdge => (
-            (faces_around(fixed, a), closure_vertices(moving, b)),
+            (fixed.faces_around(a), moving.closure_vertices(b)),
             (vec![], vec![]),
-            (closure_edges(fixed, a), closure_edges(moving, b)),
+            (fixed.closure_edges(a), moving.closure_edges(b)),
         ),
         K::EdgeFace => (
             (vec![], vec![]),
-            (closure_vertices(fixed, a), faces_around(moving, b)),
-            (closure_edges(fixed, a), closure_edges(moving, b)),
+            (fixed.closure_vertices(a), moving.faces_around(b)),
+            (fixed.closure_edges(a), moving.closure_edges(b)),
         ),
         K::FaceFace => (
-            (faces_around(fixed, a), closure_vertices(moving, b)),
-            (closure_vertices(fixed, a), faces_around(moving, b)),
-            (closure_edges(fixed, a), closure_edges(moving, b)),
+            (fixed.faces_around(a), moving.closure_vertices(b)),
+            (fixed.closure_vertices(a), moving.faces_around(b)),
+            (fixed.closure_edges(a), moving.closure_edges(b)),
         ),
         K::EdgeVertex => (
-            (faces_around(fixed, a), closure_vertices(moving, b)),
+            (fixed.faces_around(a), moving.closure_vertices(b)),
             (vec![], vec![]),
-            (closure_edges(fixed, a), edges_at(moving, b)),
+            (fixed.closure_edges(a), edges_at(moving, b)),
         ),
         K::VertexEdge => (
             (vec![], vec![]),
-            (closure_vertices(fixed, a), faces_around(moving, b)),
-            (edges_at(fixed, a), closure_edges(moving, b)),
+            (fixed.closure_vertices(a), moving.faces_around(b)),
+            (edges_at(fixed, a), moving.closure_edges(b)),
         ),
         K::EdgeEdgeTouch => (
-            (faces_around(fixed, a), closure_vertices(moving, b)),
-            (closure_vertices(fixed, a), faces_around(moving, b)),
-            (closure_edges(fixed, a), closure_edges(moving, b)),
+            (fixed.faces_around(a), moving.closure_vertices(b)),
+            (fixed.closure_vertices(a), moving.faces_around(b)),
+            (fixed.closure_edges(a), moving.closure_edges(b)),
         ),
         K::VertexVertex => (
-            (faces_around(fixed, a), closure_vertices(moving, b)),
-            (closure_vertices(fixed, a), faces_around(moving, b)),
+            (fixed.faces_around(a), moving.closure_vertices(b)),
+            (fixed.closure_vertices(a), moving.faces_around(b)),
             (edges_at(fixed, a), edges_at(moving, b)),
         ),
     };

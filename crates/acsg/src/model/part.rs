@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use super::ids::{EdgeId, FaceId, VertexId};
+use super::ids::{EdgeId, ElementId, FaceId, VertexId};
 use crate::convex::ConvexPolytope;
 
 /// A vertex: a point where three or more faces meet.
@@ -180,6 +180,60 @@ impl Part {
     pub fn edge_points(&self, id: EdgeId) -> [DVec3; 2] {
         let [a, b] = self.edge(id).vertices;
         [self.vertex(a).position, self.vertex(b).position]
+    }
+    /// Whether `inner` lies in the closure of `outer` (an element is in its own closure).
+    #[must_use]
+    pub fn in_closure(&self, outer: ElementId, inner: ElementId) -> bool {
+        use ElementId::{Edge, Face, Vertex};
+        match (outer, inner) {
+            _ if outer == inner => true,
+            (Face(f), Edge(e)) => self.edge(e).faces.contains(&f),
+            (Face(f), Vertex(v)) => self.vertex(v).faces.contains(&f),
+            (Edge(e), Vertex(v)) => self.edge(e).vertices.contains(&v),
+            _ => false,
+        }
+    }
+    /// The vertices in an element's closure (a face's over all its loops).
+    #[must_use]
+    pub fn closure_vertices(&self, e: ElementId) -> Vec<VertexId> {
+        match e {
+            ElementId::Vertex(v) => vec![v],
+            ElementId::Edge(x) => self.edge(x).vertices.to_vec(),
+            ElementId::Face(f) => self.face(f).loops.iter().flat_map(|l| l.vertices.clone()).collect(),
+        }
+    }
+    /// The edges in an element's closure.
+    #[must_use]
+    pub fn closure_edges(&self, e: ElementId) -> Vec<EdgeId> {
+        match e {
+            ElementId::Vertex(_) => Vec::new(),
+            ElementId::Edge(x) => vec![x],
+            ElementId::Face(f) => self.face(f).loops.iter().flat_map(|l| l.edges.clone()).collect(),
+        }
+    }
+    /// The faces whose closure holds an element.
+    #[must_use]
+    pub fn faces_around(&self, e: ElementId) -> Vec<FaceId> {
+        match e {
+            ElementId::Vertex(v) => self.vertex(v).faces.clone(),
+            ElementId::Edge(x) => self.edge(x).faces.to_vec(),
+            ElementId::Face(f) => vec![f],
+        }
+    }
+    /// An element's corner points: a vertex, an edge's ends, a face's outer loop.
+    #[must_use]
+    pub fn outline_points(&self, e: ElementId) -> Vec<DVec3> {
+        match e {
+            ElementId::Vertex(v) => vec![self.vertex(v).position],
+            ElementId::Edge(x) => self.edge_points(x).to_vec(),
+            ElementId::Face(f) => self
+                .face(f)
+                .outer()
+                .vertices
+                .iter()
+                .map(|&v| self.vertex(v).position)
+                .collect(),
+        }
     }
     /// Ids of the convex vertices.
     pub fn convex_vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
