@@ -320,13 +320,15 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
     let _ = writeln!(out, "bounds {}", ranges.join("  "));
     let _ = writeln!(
         out,
-        "stage 1  card(PPC) {}, {} ruled out without optimising, {} feasible; {} optimisations, {:.3} s",
-        s.ppc, s.ppc_unreachable, s.feasible_ppc, s.stage1_optimisations, s.stage1_seconds
+        "stage 1  card(PPC) {}, {} ruled out without optimising, {} searched by optimisation ({} local runs), \
+         {} feasible, {:.3} s",
+        s.ppc, s.ppc_unreachable, s.stage1_searched, s.stage1_optimisations, s.feasible_ppc, s.stage1_seconds
     );
     let _ = writeln!(
         out,
         "stage 2  {} pairs: {} implied, {} topology, {} degenerate, {} duplicate, {} ruled out without optimising; \
-         {} searched ({} infeasible), {} optimisations, {} found on the way, {:.3} s",
+         {} candidates, {} searched by optimisation ({} local runs, {} below known states), {} infeasible, \
+         {} found on the way, {:.3} s",
         s.stage2_pairs,
         s.pruned_implied,
         s.pruned_topology,
@@ -334,8 +336,10 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
         s.pruned_duplicate,
         s.pruned_unreachable,
         s.stage2_candidates,
-        s.infeasible,
+        s.stage2_searched,
         s.stage2_optimisations,
+        s.descents,
+        s.infeasible,
         s.found_on_the_way,
         s.stage2_seconds
     );

@@ -231,6 +231,14 @@ impl<'a> ContactScene<'a> {
         touch::distance(part, a, part, b)
     }
 
+    /// The distance between a fixed and a moving element's closures with the moving
+    /// part placed by `moving_to_fixed`.
+    #[must_use]
+    pub fn element_distance(&self, moving_to_fixed: &DAffine3, fixed: ElementId, moving: ElementId) -> f64 {
+        let placed = PlacedPart::new(self.moving, moving_to_fixed);
+        touch::distance(&self.fixed, fixed, &placed, moving)
+    }
+
     /// L: the larger bounding-box diagonal of the two parts.
     #[must_use]
     pub fn scale(&self) -> f64 {

@@ -37,6 +37,43 @@ impl Interval {
         Interval::new(-self.hi, -self.lo)
     }
 
+    pub fn sub(self, o: Interval) -> Interval {
+        self.add(o.neg())
+    }
+
+    /// `self / o` for a divisor that does not contain zero.
+    pub fn div(self, o: Interval) -> Interval {
+        let c = [self.lo / o.lo, self.lo / o.hi, self.hi / o.lo, self.hi / o.hi];
+        Interval::new(
+            c.iter().copied().filter(|x| !x.is_nan()).fold(f64::INFINITY, f64::min),
+            c.iter()
+                .copied()
+                .filter(|x| !x.is_nan())
+                .fold(f64::NEG_INFINITY, f64::max),
+        )
+    }
+
+    /// The intersection (empty when `lo > hi`).
+    pub fn meet(self, o: Interval) -> Interval {
+        Interval::new(self.lo.max(o.lo), self.hi.min(o.hi))
+    }
+
+    pub fn is_empty(self) -> bool {
+        self.lo > self.hi
+    }
+
+    pub fn contains_zero(self) -> bool {
+        self.lo <= 0.0 && self.hi >= 0.0
+    }
+
+    pub fn widen(self, by: f64) -> Interval {
+        Interval::new(self.lo - by, self.hi + by)
+    }
+
+    pub fn width(self) -> f64 {
+        self.hi - self.lo
+    }
+
     /// cos over an angle interval.
     pub fn cos(self) -> Interval {
         if self.hi - self.lo >= std::f64::consts::TAU {
@@ -66,7 +103,7 @@ impl Interval {
 }
 
 /// A 3x3 matrix of intervals, rows first.
-type IntervalMat = [[Interval; 3]; 3];
+pub(crate) type IntervalMat = [[Interval; 3]; 3];
 
 fn mat_mul(a: &IntervalMat, b: &IntervalMat) -> IntervalMat {
     let mut out = [[Interval::point(0.0); 3]; 3];
@@ -79,7 +116,7 @@ fn mat_mul(a: &IntervalMat, b: &IntervalMat) -> IntervalMat {
 }
 
 /// Enclosure of R = Rz(rz) Ry(ry) Rx(rx) over the bounds' angle box.
-fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
+pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
     let angle = |lo: f64, hi: f64| Interval::new(lo, hi);
     let (x, y, z) = (
         angle(bounds.min.rx, bounds.max.rx),

@@ -12,6 +12,7 @@
 //!    asked for, with no penetration. A pose showing another state is reported as such.
 
 mod interval;
+mod prover;
 mod residual;
 mod solver;
 
@@ -99,7 +100,7 @@ pub struct Problem<'a> {
     scene: ContactScene<'a>,
     fixed_faces: Vec<FaceShape>,
     moving_faces: Vec<FaceShape>,
-    enclosure: Enclosure,
+    prover: prover::Prover<'a>,
     scale: f64,
     margin: f64,
 }
@@ -119,7 +120,7 @@ impl<'a> Problem<'a> {
             assembled,
             fixed_faces: FaceShape::all(fixed, margin),
             moving_faces: FaceShape::all(moving, margin),
-            enclosure: Enclosure::new(&bounds),
+            prover: prover::Prover::new(fixed, moving, &assembled, scale),
             scene,
             scale,
             margin,
@@ -191,6 +192,10 @@ impl<'a> Problem<'a> {
                 0.25 + 0.5 * f64::from((corner >> 2) & 1),
             ]);
         }
+        for corner in 0..8u32 {
+            orientations.push(std::array::from_fn(|k| f64::from((corner >> k) & 1)));
+        }
+        let angle = |w: &[f64; 3], k: usize| lo[3 + k] + (hi[3 + k] - lo[3 + k]) * w[k];
         let g_inverse = self.assembled.inverse();
         orientations
             .into_iter()
@@ -202,8 +207,7 @@ impl<'a> Problem<'a> {
                 // starts differ even when the rotation is fixed.
                 let goal = anchor_point(self.fixed, &self.fixed_faces, anchor.fixed, i);
                 let on_b = anchor_point(self.moving, &self.moving_faces, anchor.moving, i / 3);
-                let angle = |k: usize| lo[3 + k] + (hi[3 + k] - lo[3 + k]) * w[k];
-                let mut pose = Pose::from_array([0.0, 0.0, 0.0, angle(0), angle(1), angle(2)]);
+                let mut pose = Pose::from_array([0.0, 0.0, 0.0, angle(&w, 0), angle(&w, 1), angle(&w, 2)]);
                 let t = g_inverse.transform_point3(goal) - pose.rotation() * on_b;
                 pose.x = t.x;
                 pose.y = t.y;
@@ -213,80 +217,24 @@ impl<'a> Problem<'a> {
             .collect()
     }
 
-    /// Whether the reach test rules the contact out: over every pose in the bounds, the
-    /// moving element's box stays away from the fixed element's box.
-    fn unreachable(&self, target: &PrincipalContact, enclosure: &Enclosure) -> bool {
-        if self.assembled != DAffine3::IDENTITY {
-            return false; // the enclosure assumes G = identity
-        }
-        let fixed_box = |e: ElementId| bounds_of(self.fixed.outline_points(e));
-        let moving_box = |e: ElementId| {
-            self.moving
-                .outline_points(e)
-                .into_iter()
-                .map(|p| enclosure.reach.of(p))
-                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), (a, b)| {
-                    (lo.min(a), hi.max(b))
-                })
-        };
-        let (flo, fhi) = fixed_box(target.fixed);
-        let (mlo, mhi) = moving_box(target.moving);
-        let slack = scaled(CONTACT_REL, self.scale);
-        (mlo - fhi).max(flo - mhi).max_element() > slack
-    }
-
     /// Whether cheap conservative tests prove that no pose in the bounds realises the
-    /// target: the rigid distance test, then the reach and orientation tests over the
-    /// bounds, bisected a limited number of times (a box of poses is dropped when one
-    /// contact fails in it; the target is excluded when every box is dropped).
+    /// target: the rigid distance test, the orientation test over the bounds, then
+    /// interval constraint propagation with branch and prune ([`prover`]), limited to
+    /// [`BISECTION_BUDGET`] boxes.
     fn excluded(&self, target: &[PrincipalContact]) -> Option<Exclusion> {
         if !self.rigidly_compatible(target) {
             return Some(Exclusion::Incompatible);
         }
-        if self.assembled != DAffine3::IDENTITY {
-            return None; // the enclosures assume G = identity
-        }
-        let test = |enclosure: &Enclosure| -> Option<Exclusion> {
-            if target.iter().any(|pc| self.unreachable(pc, enclosure)) {
-                Some(Exclusion::Unreachable)
-            } else if target.iter().any(|pc| !self.orientable(pc, enclosure)) {
-                Some(Exclusion::Misoriented)
-            } else {
-                None
-            }
+        let orientable = |bounds: &Bounds| {
+            let enclosure = Enclosure::new(bounds);
+            target.iter().all(|pc| self.orientable(pc, &enclosure))
         };
-        let first = test(&self.enclosure);
-        if first.is_some() {
-            return first;
+        if !orientable(&self.bounds) {
+            return Some(Exclusion::Misoriented);
         }
-        let mut boxes = vec![self.bounds];
-        let mut budget = BISECTION_BUDGET;
-        while let Some(b) = boxes.pop() {
-            if budget == 0 {
-                return None;
-            }
-            budget -= 1;
-            if test(&Enclosure::new(&b)).is_some() {
-                continue;
-            }
-            // Split the widest component, angles weighted by L (their arc at the part).
-            let (lo, hi) = (b.min.to_array(), b.max.to_array());
-            let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { self.scale };
-            let k = (0..6).max_by(|&i, &j| weight(i).total_cmp(&weight(j))).unwrap_or(0);
-            if weight(k) <= 0.0 {
-                return None;
-            }
-            let mid = 0.5 * (lo[k] + hi[k]);
-            let (mut upper_lo, mut lower_hi) = (lo, hi);
-            upper_lo[k] = mid;
-            lower_hi[k] = mid;
-            for (l, h) in [(lo, lower_hi), (upper_lo, hi)] {
-                if let Ok(half) = Bounds::try_new(l, h) {
-                    boxes.push(half);
-                }
-            }
-        }
-        Some(Exclusion::Unreachable)
+        self.prover
+            .excludes(target, &self.bounds, BISECTION_BUDGET, &orientable)
+            .then_some(Exclusion::Unreachable)
     }
 
     /// Whether some rotation in the bounds can put each part on the outer side of the
@@ -295,10 +243,9 @@ impl<'a> Problem<'a> {
     /// along the face, and a face in contact to face the other way. Conservative
     /// (interval arithmetic over the rotation bounds): `false` proves infeasibility.
     fn orientable(&self, pc: &PrincipalContact, enclosure: &Enclosure) -> bool {
-        if self.assembled != DAffine3::IDENTITY {
-            return true; // the enclosure assumes G = identity
-        }
         let slack = 1e-9;
+        // The enclosures are of R in G's frame: the fixed part's directions go there.
+        let to_g = |d: DVec3| self.prover.fixed_direction(d);
         // n · (R d) over the bounds, for n in A's frame and d in B's frame.
         let range = |n: DVec3, d: DVec3| {
             let (lo, hi) = enclosure.turn.of(d);
@@ -336,7 +283,7 @@ impl<'a> Problem<'a> {
         };
         match (pc.fixed, pc.moving) {
             (ElementId::Face(f), b) => {
-                let n = self.fixed.face(f).normal;
+                let n = to_g(self.fixed.face(f).normal);
                 let out_ok = leaving(self.moving, b).into_iter().all(|d| range(n, d).1 >= -slack);
                 let along_ok = within(self.moving, b).into_iter().all(|d| spans_zero(range(n, d)));
                 let facing_ok = match b {
@@ -348,9 +295,39 @@ impl<'a> Problem<'a> {
             (a, ElementId::Face(g)) => {
                 // In B's frame: A's directions d against R n_g, i.e. d · (R n_g).
                 let n = self.moving.face(g).normal;
-                let out_ok = leaving(self.fixed, a).into_iter().all(|d| range(d, n).1 >= -slack);
-                let along_ok = within(self.fixed, a).into_iter().all(|d| spans_zero(range(d, n)));
+                let out_ok = leaving(self.fixed, a)
+                    .into_iter()
+                    .all(|d| range(to_g(d), n).1 >= -slack);
+                let along_ok = within(self.fixed, a).into_iter().all(|d| spans_zero(range(to_g(d), n)));
                 out_ok && along_ok
+            }
+            (ElementId::Edge(e), ElementId::Edge(x)) => {
+                // Two crossing convex edges touch only if the plane through both separates
+                // the parts' wedges: with n = e × R x and s = ±1, A's in-face directions
+                // u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both are linear in
+                // R: n·u = (u × e)·(R x), n·(R v) = e·R(x × v).
+                let de = to_g(self.fixed.edge_direction(e));
+                let dx = self.moving.edge_direction(x);
+                let on_a: Vec<_> = self
+                    .fixed
+                    .edge_wedge(e)
+                    .iter()
+                    .map(|&u| range(u.cross(de), dx))
+                    .collect();
+                let on_b: Vec<_> = self
+                    .moving
+                    .edge_wedge(x)
+                    .iter()
+                    .map(|&v| range(de, dx.cross(v)))
+                    .collect();
+                let side = |s: f64| {
+                    on_a.iter()
+                        .all(|&(lo, hi)| if s > 0.0 { lo <= slack } else { hi >= -slack })
+                        && on_b
+                            .iter()
+                            .all(|&(lo, hi)| if s > 0.0 { hi >= -slack } else { lo <= slack })
+                };
+                side(1.0) || side(-1.0)
             }
             _ => true,
         }
@@ -427,6 +404,25 @@ impl<'a> Problem<'a> {
         )
     }
 
+    /// One local optimisation that keeps the target's contacts and pushes the `extra`
+    /// contacts' elements apart (to a small clearance), from a pose showing them all.
+    fn release(&self, target: &[PrincipalContact], extra: &[PrincipalContact], start: Pose) -> Pose {
+        let clearance = 1e-4 * self.scale;
+        solver::minimise(
+            |x, out| {
+                self.residuals(target, x, true, out);
+                let t = self.placement(x);
+                for pc in extra {
+                    let gap = self.scene.element_distance(&t, pc.fixed, pc.moving);
+                    out.push((clearance - gap).max(0.0));
+                }
+            },
+            start,
+            &self.bounds,
+            self.scale,
+        )
+    }
+
     /// Searches for a witness of a contact state (its contacts sorted): first from the
     /// warm starts, then from `constructive` starts that place the anchor contact's
     /// points together. Poses that verify as other states are returned with
@@ -456,11 +452,40 @@ impl<'a> Problem<'a> {
             if state == target {
                 return Search::Found(pose);
             }
+            if is_strict_superset(&state, target) {
+                // The target held, with more contacts: push those apart from here.
+                if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
+                    return Search::Found(released);
+                }
+            }
             if !others.iter().any(|(known, _)| *known == state) {
                 others.push((state, pose));
             }
         }
         Search::NotFound { others }
+    }
+
+    /// Searches for a witness of `target`, a proper subset of a known `state`, from that
+    /// state's witness by pushing the other contacts' elements apart (one
+    /// optimisation). Poses that verify as other states are returned as with
+    /// [`Problem::find`].
+    pub fn find_below(
+        &self,
+        target: &[PrincipalContact],
+        state: &[PrincipalContact],
+        witness: Pose,
+        stats: &mut SearchStats,
+    ) -> Search {
+        stats.optimisations += 1;
+        let extra: Vec<PrincipalContact> = state.iter().filter(|pc| !target.contains(pc)).copied().collect();
+        let pose = self.release(target, &extra, witness);
+        match self.verify(&pose) {
+            Some(found) if found == target => Search::Found(pose),
+            Some(found) => Search::NotFound {
+                others: vec![(found, pose)],
+            },
+            None => Search::NotFound { others: Vec::new() },
+        }
     }
 
     /// Searches for a witness of a primitive contact (f-v, e-e or v-f, with elements
@@ -469,7 +494,7 @@ impl<'a> Problem<'a> {
         if !is_primitive(target) {
             return Search::NotFound { others: Vec::new() };
         }
-        self.find(&[*target], &[], target, 9, stats)
+        self.find(&[*target], &[], target, 17, stats)
     }
 
     /// Stage 1: every primitive contact with a verified witness.
@@ -486,7 +511,7 @@ impl<'a> Problem<'a> {
 }
 
 /// Boxes a target's exclusion may examine before the optimiser is called.
-const BISECTION_BUDGET: usize = 48;
+const BISECTION_BUDGET: usize = 256;
 
 /// Why a target was excluded without optimising.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -499,7 +524,6 @@ enum Exclusion {
 /// Interval enclosures of the moving part's points and directions over a box of poses.
 #[derive(Clone, Debug)]
 struct Enclosure {
-    reach: interval::ReachBox,
     /// Rotation only, for directions.
     turn: interval::ReachBox,
 }
@@ -507,7 +531,6 @@ struct Enclosure {
 impl Enclosure {
     fn new(bounds: &Bounds) -> Enclosure {
         Enclosure {
-            reach: interval::ReachBox::new(bounds),
             turn: interval::ReachBox::new(&rotation_only(bounds)),
         }
     }
@@ -521,6 +544,11 @@ fn rotation_only(bounds: &Bounds) -> Bounds {
         hi[k] = 0.0;
     }
     Bounds::try_new(lo, hi).unwrap_or(*bounds)
+}
+
+/// Whether `big` holds every contact of `small` and more (both sorted).
+fn is_strict_superset(big: &[PrincipalContact], small: &[PrincipalContact]) -> bool {
+    big.len() > small.len() && small.iter().all(|pc| big.binary_search(pc).is_ok())
 }
 
 /// Whether a contact is of a primitive kind (f-v, v-f or e-e) between elements of the
@@ -553,12 +581,4 @@ fn anchor_point(part: &Part, faces: &[FaceShape], e: ElementId, k: usize) -> DVe
         }
         ElementId::Vertex(v) => part.vertex(v).position,
     }
-}
-
-fn bounds_of(points: Vec<DVec3>) -> (DVec3, DVec3) {
-    points
-        .into_iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(p), hi.max(p))
-        })
 }

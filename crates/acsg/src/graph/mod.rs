@@ -82,7 +82,10 @@ pub struct Stats {
     pub ppc_unreachable: usize,
     /// Feasible PPCs.
     pub feasible_ppc: usize,
-    /// Optimisations in stage 1.
+    /// PPCs handed to the optimiser in stage 1 (the paper's count of optimisation
+    /// procedures; each may run several local optimisations).
+    pub stage1_searched: usize,
+    /// Local optimisations run in stage 1.
     pub stage1_optimisations: usize,
     /// Stage-2 pairs (state, feasible PPC) considered.
     pub stage2_pairs: usize,
@@ -98,10 +101,18 @@ pub struct Stats {
     pub pruned_unreachable: usize,
     /// Candidates searched by optimisation.
     pub stage2_candidates: usize,
-    /// Optimisations in stage 2.
+    /// Candidates handed to the optimiser in stage 2, descents included (the paper's
+    /// count of optimisation procedures).
+    pub stage2_searched: usize,
+    /// Local optimisations run in stage 2.
     pub stage2_optimisations: usize,
     /// States found while searching for another.
     pub found_on_the_way: usize,
+    /// Stage-2 searches for a state one contact below a known one, started from its
+    /// witness (after the breadth-first growth settles).
+    pub descents: usize,
+    /// States found by those searches.
+    pub found_by_descent: usize,
     /// Candidates for which no witness was found.
     pub infeasible: usize,
     /// States, free space included.
@@ -309,6 +320,7 @@ impl<'a> Generator<'a> {
         for (ppc, (search, stats)) in ppcs.iter().zip(results) {
             self.stats.ppc_unreachable += stats.pruned + stats.misoriented + stats.incompatible;
             self.stats.stage1_optimisations += stats.optimisations;
+            self.stats.stage1_searched += usize::from(stats.optimisations > 0);
             match search {
                 Search::Found(pose) => feasible.push((*ppc, pose)),
                 Search::NotFound { others } => on_the_way.extend(others),
@@ -331,10 +343,86 @@ impl<'a> Generator<'a> {
         }
         self.stats.stage1_seconds = started.elapsed().as_secs_f64();
 
-        // Stage 2: breadth first.
+        // Stage 2: breadth first; when it settles, search one contact below every known
+        // state from its witness (states the growth missed), and grow from what that finds.
         let started = Instant::now();
+        let mut descended: BTreeSet<Vec<PrincipalContact>> = BTreeSet::new();
+        loop {
+            self.grow_breadth_first(&mut frontier, &feasible, progress);
+            frontier = self.descend(&mut descended);
+            if frontier.is_empty() {
+                break;
+            }
+        }
+        let edges = self.neighbours(&feasible);
+        self.stats.states = self.states.len();
+        self.stats.edges = edges.len();
+        self.stats.stage2_seconds = started.elapsed().as_secs_f64();
+        Graph {
+            states: self.states,
+            edges,
+            stats: self.stats,
+        }
+    }
+
+    /// For every known state with several contacts, its subsets one contact smaller that
+    /// are not states yet, each searched from the state's witness; the new states.
+    fn descend(&mut self, descended: &mut BTreeSet<Vec<PrincipalContact>>) -> Vec<usize> {
+        let mut candidates = Vec::new();
+        for state in &self.states {
+            let Some(witness) = state.witness else { continue };
+            if state.contacts.len() < 2 {
+                continue;
+            }
+            for skip in 0..state.contacts.len() {
+                let mut target = state.contacts.clone();
+                target.remove(skip);
+                if self.index.contains_key(&target)
+                    || (!self.options.degenerate && self.is_degenerate(&target))
+                    || !descended.insert(target.clone())
+                {
+                    continue;
+                }
+                candidates.push((target, state.id, witness));
+            }
+        }
+        let results: Vec<(Search, SearchStats)> = candidates
+            .par_iter()
+            .map(|(target, from, witness)| {
+                let mut stats = SearchStats::default();
+                let above = &self.states[*from].contacts;
+                (self.problem.find_below(target, above, *witness, &mut stats), stats)
+            })
+            .collect();
+        let mut frontier = Vec::new();
+        for ((target, _, _), (search, stats)) in candidates.into_iter().zip(results) {
+            self.stats.descents += 1;
+            self.stats.stage2_searched += 1;
+            self.stats.stage2_optimisations += stats.optimisations;
+            let found = match search {
+                Search::Found(pose) => vec![(target, pose)],
+                Search::NotFound { others } => others,
+                Search::Unreachable => Vec::new(),
+            };
+            for (state, pose) in found {
+                if let Some((id, true)) = self.add_state(state, pose) {
+                    self.stats.found_by_descent += 1;
+                    frontier.push(id);
+                }
+            }
+        }
+        frontier
+    }
+
+    /// Stage 2's breadth-first growth from `frontier` until no new state appears.
+    fn grow_breadth_first(
+        &mut self,
+        frontier: &mut Vec<usize>,
+        feasible: &[(PrincipalContact, Pose)],
+        progress: &(dyn Fn(Progress) + Sync),
+    ) {
         while !frontier.is_empty() {
-            let candidates = self.candidates(&frontier, &feasible);
+            let candidates = self.candidates(frontier, feasible);
             let mut results: Vec<(Search, SearchStats)> = Vec::with_capacity(candidates.len());
             for chunk in candidates.chunks(BATCH) {
                 results.par_extend(chunk.par_iter().map(|c| {
@@ -351,10 +439,11 @@ impl<'a> Generator<'a> {
                     states: self.states.len(),
                 });
             }
-            frontier = Vec::new();
+            frontier.clear();
             for (candidate, (search, stats)) in candidates.into_iter().zip(results) {
                 self.stats.pruned_unreachable += stats.pruned + stats.misoriented + stats.incompatible;
                 self.stats.stage2_optimisations += stats.optimisations;
+                self.stats.stage2_searched += usize::from(stats.optimisations > 0);
                 match search {
                     Search::Found(pose) => {
                         if let Some((id, true)) = self.add_state(candidate.target, pose) {
@@ -373,15 +462,6 @@ impl<'a> Generator<'a> {
                     Search::Unreachable => self.stats.infeasible += 1,
                 }
             }
-        }
-        let edges = self.neighbours(&feasible);
-        self.stats.states = self.states.len();
-        self.stats.edges = edges.len();
-        self.stats.stage2_seconds = started.elapsed().as_secs_f64();
-        Graph {
-            states: self.states,
-            edges,
-            stats: self.stats,
         }
     }
 

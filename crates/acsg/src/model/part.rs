@@ -181,6 +181,23 @@ impl Part {
         let [a, b] = self.edge(id).vertices;
         [self.vertex(a).position, self.vertex(b).position]
     }
+    /// The unit direction of an edge, from `vertices[0]` to `vertices[1]`.
+    #[must_use]
+    pub fn edge_direction(&self, id: EdgeId) -> DVec3 {
+        let [a, b] = self.edge_points(id);
+        (b - a).normalize()
+    }
+
+    /// The edge's wedge: for each of its two faces, the unit direction in the face,
+    /// across the edge, into the face.
+    #[must_use]
+    pub fn edge_wedge(&self, id: EdgeId) -> [DVec3; 2] {
+        let d = self.edge_direction(id);
+        let [f0, f1] = self.edge(id).faces;
+        // faces[0] runs the edge forwards with its interior on the left seen from outside.
+        [self.face(f0).normal.cross(d), self.face(f1).normal.cross(-d)]
+    }
+
     /// Whether `inner` lies in the closure of `outer` (an element is in its own closure).
     #[must_use]
     pub fn in_closure(&self, outer: ElementId, inner: ElementId) -> bool {

@@ -1,0 +1,603 @@
+//! A conservative infeasibility prover: interval constraint propagation over boxes of
+//! poses (branch and prune).
+//!
+//! In the frame of G (where `p = R p_B + t`), every contact of a state gives
+//! constraints that are linear in the translation `t` once the rotation's range is
+//! enclosed by intervals: a point of one part on a plane of the other, two crossing
+//! edges in one plane, the contact point inside both elements' boxes. Non-penetration
+//! gives more: no vertex of one part strictly inside a convex piece of the other. Each
+//! constraint narrows the translation box; an empty box proves that no pose in it
+//! realises the state. Boxes that survive are split (rotations first, they are what the
+//! intervals overestimate) up to a budget. Every step is an enclosure, so a target is
+//! only ever excluded when no pose in the bounds can show it.
+
+use glam::{DAffine3, DVec3};
+
+use super::interval::{Interval, IntervalMat, rotation_enclosure};
+use crate::contact::{ContactKind, PrincipalContact};
+use crate::model::{ElementId, Part};
+use crate::pose::Bounds;
+use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
+
+type IVec = [Interval; 3];
+
+/// One linear constraint `coeffs · t ∈ range` on the translation.
+#[derive(Clone, Copy, Debug)]
+struct Linear {
+    coeffs: IVec,
+    range: Interval,
+}
+
+/// A contact's constraint on poses, before the rotation is enclosed.
+#[derive(Clone, Copy, Debug)]
+enum Link {
+    /// A point `w` of the moving part on a plane `n · p = d` of the fixed part.
+    MovingPointOnFixedPlane { w: DVec3, n: DVec3, d: f64 },
+    /// A point `a` of the fixed part on a plane `m · q = e` of the moving part.
+    FixedPointOnMovingPlane { a: DVec3, m: DVec3, e: f64 },
+    /// Crossing edges `a0 + s da` and `b0 + u db` meet: `(da × R db) · (a0 − R b0 − t) = 0`.
+    Crossing { a0: DVec3, da: DVec3, b0: DVec3, db: DVec3 },
+    /// The contact point lies in both elements' boxes: `t ∈ box_A − R box_B`.
+    Region { a: (DVec3, DVec3), b: (DVec3, DVec3) },
+}
+
+/// One part's geometry as the prover uses it (the fixed part in G's frame).
+struct Shape {
+    vertices: Vec<DVec3>,
+    /// Per face: outward normal and offset.
+    planes: Vec<(DVec3, f64)>,
+    /// Per convex piece: its bounding planes.
+    pieces: Vec<Vec<(DVec3, f64)>>,
+}
+
+impl Shape {
+    fn new(part: &Part, frame: &DAffine3) -> Shape {
+        let plane = |n: DVec3, d: f64| {
+            let n2 = frame.transform_vector3(n).normalize();
+            (n2, n2.dot(frame.transform_point3(n * d)))
+        };
+        Shape {
+            vertices: part
+                .vertices()
+                .iter()
+                .map(|v| frame.transform_point3(v.position))
+                .collect(),
+            planes: part.faces().iter().map(|f| plane(f.normal, f.offset)).collect(),
+            pieces: part
+                .convex_pieces()
+                .iter()
+                .map(|piece| piece.faces().iter().map(|f| plane(f.normal, f.offset)).collect())
+                .collect(),
+        }
+    }
+}
+
+/// The prover for one pair of parts, bounds and assembled pose.
+pub(crate) struct Prover<'a> {
+    fixed: &'a Part,
+    moving: &'a Part,
+    /// The fixed part in G's frame.
+    a: Shape,
+    b: Shape,
+    /// G⁻¹, which maps the fixed part's frame to G's.
+    to_g: DAffine3,
+    /// Tolerance on every constraint (a small multiple of the contact tolerance).
+    slack: f64,
+    /// How far inside its elements a point contact must be: a witness is clean only if
+    /// every pair that does not touch is at least the separation tolerance apart, so the
+    /// point keeps that far from the elements' boundaries (half of it, to be safe).
+    margin: f64,
+}
+
+impl<'a> Prover<'a> {
+    pub fn new(fixed: &'a Part, moving: &'a Part, assembled: &DAffine3, scale: f64) -> Prover<'a> {
+        let to_g = assembled.inverse();
+        Prover {
+            fixed,
+            moving,
+            a: Shape::new(fixed, &to_g),
+            b: Shape::new(moving, &DAffine3::IDENTITY),
+            to_g,
+            slack: scaled(10.0 * CONTACT_REL, scale),
+            margin: scaled(0.5 * SEPARATION_REL, scale),
+        }
+    }
+
+    /// The box of an element's closure (the fixed part's in G's frame), shrunk by the
+    /// margin when the contact point must keep off the element's boundary; `None` when
+    /// nothing is left.
+    fn element_box(&self, fixed: bool, e: ElementId, inside: bool) -> Option<(DVec3, DVec3)> {
+        let (part, shape) = if fixed {
+            (self.fixed, &self.a)
+        } else {
+            (self.moving, &self.b)
+        };
+        let (lo, hi) = bounds_of(part.closure_vertices(e).iter().map(|v| shape.vertices[v.index()]));
+        // A disc (face) or segment (edge) of radius `margin` around the point stays in
+        // the element, so in each axis the point keeps `margin · |extent of a unit step|`.
+        let shrink = match e {
+            _ if !inside => DVec3::ZERO,
+            ElementId::Face(f) => {
+                let n = shape.planes[f.index()].0;
+                (DVec3::ONE - n * n).max(DVec3::ZERO).to_array().map(f64::sqrt).into()
+            }
+            ElementId::Edge(x) => {
+                let [a, b] = part.edge(x).vertices.map(|v| shape.vertices[v.index()]);
+                (b - a).normalize().abs()
+            }
+            ElementId::Vertex(_) => DVec3::ZERO,
+        } * self.margin;
+        let (lo, hi) = (lo + shrink, hi - shrink);
+        lo.cmple(hi).all().then_some((lo, hi))
+    }
+
+    /// The constraints of a state's contacts; `None` when they are already
+    /// contradictory without looking at poses.
+    fn links(&self, target: &[PrincipalContact]) -> Option<Vec<Link>> {
+        let mut out = Vec::new();
+        for pc in target {
+            let (ea, eb) = (pc.fixed, pc.moving);
+            // Point contacts in an element's interior keep off its boundary.
+            let (inside_a, inside_b) = match pc.kind {
+                ContactKind::FaceVertex | ContactKind::EdgeVertex => (true, false),
+                ContactKind::VertexFace | ContactKind::VertexEdge => (false, true),
+                ContactKind::EdgeEdge => (true, true),
+                _ => (false, false),
+            };
+            out.push(Link::Region {
+                a: self.element_box(true, ea, inside_a)?,
+                b: self.element_box(false, eb, inside_b)?,
+            });
+            if pc.kind == ContactKind::EdgeEdge {
+                if let (ElementId::Edge(x), ElementId::Edge(y)) = (ea, eb) {
+                    let [a0, a1] = self.fixed.edge(x).vertices.map(|v| self.a.vertices[v.index()]);
+                    let [b0, b1] = self.moving.edge(y).vertices.map(|v| self.b.vertices[v.index()]);
+                    out.push(Link::Crossing {
+                        a0,
+                        da: (a1 - a0).normalize(),
+                        b0,
+                        db: (b1 - b0).normalize(),
+                    });
+                }
+                continue;
+            }
+            // The element of lower dimension lies on every plane through the other.
+            let (da, db) = (dimension(ea), dimension(eb));
+            if da >= db {
+                for f in planes_through(self.fixed, ea) {
+                    let (n, d) = self.a.planes[f];
+                    for v in self.moving.closure_vertices(eb) {
+                        out.push(Link::MovingPointOnFixedPlane {
+                            w: self.b.vertices[v.index()],
+                            n,
+                            d,
+                        });
+                    }
+                }
+            }
+            if db >= da {
+                for f in planes_through(self.moving, eb) {
+                    let (m, e) = self.b.planes[f];
+                    for v in self.fixed.closure_vertices(ea) {
+                        out.push(Link::FixedPointOnMovingPlane {
+                            a: self.a.vertices[v.index()],
+                            m,
+                            e,
+                        });
+                    }
+                }
+            }
+        }
+        self.tighten_points(&mut out)?;
+        Some(out)
+    }
+
+    /// Where one vertex is the contact point of several constraints (on planes, in
+    /// boxes), they bound the same point: intersect them without the pose, which the
+    /// per-box contraction cannot do (it encloses `R w` anew in each).
+    fn tighten_points(&self, links: &mut [Link]) -> Option<()> {
+        let s = self.slack;
+        let box_of = |(lo, hi): (DVec3, DVec3)| -> IVec { std::array::from_fn(|k| Interval::new(lo[k], hi[k])) };
+        let unbox = |b: IVec| {
+            (
+                DVec3::new(b[0].lo, b[1].lo, b[2].lo),
+                DVec3::new(b[0].hi, b[1].hi, b[2].hi),
+            )
+        };
+        let everywhere = [Interval::new(-FAR, FAR); 3];
+        // Moving vertices: p = R w + t, in G's frame.
+        let moving_points: Vec<DVec3> = links
+            .iter()
+            .filter_map(|l| match *l {
+                Link::MovingPointOnFixedPlane { w, .. } => Some(w),
+                _ => None,
+            })
+            .collect();
+        for w in moving_points {
+            let mut p = everywhere;
+            for link in links.iter() {
+                match *link {
+                    Link::Region { a, b } if b.0 == w && b.1 == w => {
+                        let r = box_of(a);
+                        for k in 0..3 {
+                            p[k] = p[k].meet(r[k]);
+                        }
+                    }
+                    Link::MovingPointOnFixedPlane { w: w2, n, d } if w2 == w => narrow(
+                        Linear {
+                            coeffs: point(n),
+                            range: Interval::point(d).widen(s),
+                        },
+                        &mut p,
+                    )?,
+                    _ => {}
+                }
+            }
+            if p.iter().any(|i| i.is_empty()) {
+                return None;
+            }
+            for link in links.iter_mut() {
+                if let Link::Region { a, b } = link {
+                    if b.0 == w && b.1 == w && p.iter().all(|i| i.width() < FAR) {
+                        *a = unbox(p);
+                    }
+                }
+            }
+        }
+        // Fixed vertices: q = Rᵀ (a − t), in the moving part's frame.
+        let fixed_points: Vec<DVec3> = links
+            .iter()
+            .filter_map(|l| match *l {
+                Link::FixedPointOnMovingPlane { a, .. } => Some(a),
+                _ => None,
+            })
+            .collect();
+        for a in fixed_points {
+            let mut q = everywhere;
+            for link in links.iter() {
+                match *link {
+                    Link::Region { a: ra, b } if ra.0 == a && ra.1 == a => {
+                        let r = box_of(b);
+                        for k in 0..3 {
+                            q[k] = q[k].meet(r[k]);
+                        }
+                    }
+                    Link::FixedPointOnMovingPlane { a: a2, m, e } if a2 == a => narrow(
+                        Linear {
+                            coeffs: point(m),
+                            range: Interval::point(e).widen(s),
+                        },
+                        &mut q,
+                    )?,
+                    _ => {}
+                }
+            }
+            if q.iter().any(|i| i.is_empty()) {
+                return None;
+            }
+            for link in links.iter_mut() {
+                if let Link::Region { a: ra, b } = link {
+                    if ra.0 == a && ra.1 == a && q.iter().all(|i| i.width() < FAR) {
+                        *b = unbox(q);
+                    }
+                }
+            }
+        }
+        Some(())
+    }
+
+    /// Maps a direction of the fixed part's frame into G's frame.
+    pub fn fixed_direction(&self, d: DVec3) -> DVec3 {
+        self.to_g.transform_vector3(d)
+    }
+
+    /// Whether no pose in `bounds` realises `target`, proven within `budget` boxes;
+    /// `survives` is an extra rotation-only test of a box (`false` drops it).
+    pub fn excludes(
+        &self,
+        target: &[PrincipalContact],
+        bounds: &Bounds,
+        budget: usize,
+        survives: &dyn Fn(&Bounds) -> bool,
+    ) -> bool {
+        let Some(links) = self.links(target) else {
+            return true;
+        };
+        let mut boxes = vec![*bounds];
+        let mut budget = budget;
+        while let Some(b) = boxes.pop() {
+            if budget == 0 {
+                return false;
+            }
+            budget -= 1;
+            if !survives(&b) {
+                continue;
+            }
+            let Some(narrowed) = self.contract(&links, &b) else {
+                continue;
+            };
+            let (lo, hi) = (narrowed.min.to_array(), narrowed.max.to_array());
+            // Rotations first: their width, as an arc at the parts' size, against the
+            // translations'.
+            let scale = self
+                .a
+                .vertices
+                .iter()
+                .chain(&self.b.vertices)
+                .map(|p| p.length())
+                .fold(1.0, f64::max);
+            let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { 2.0 * scale };
+            let k = (0..6).max_by(|&i, &j| weight(i).total_cmp(&weight(j))).unwrap_or(0);
+            if weight(k) <= self.slack {
+                return false;
+            }
+            let mid = 0.5 * (lo[k] + hi[k]);
+            let (mut upper_lo, mut lower_hi) = (lo, hi);
+            upper_lo[k] = mid;
+            lower_hi[k] = mid;
+            for (l, h) in [(upper_lo, hi), (lo, lower_hi)] {
+                if let Ok(half) = Bounds::try_new(l, h) {
+                    boxes.push(half);
+                }
+            }
+        }
+        true
+    }
+
+    /// Narrows the translation part of a box by every constraint until it settles;
+    /// `None` when it becomes empty.
+    fn contract(&self, links: &[Link], bounds: &Bounds) -> Option<Bounds> {
+        let r = rotation_enclosure(bounds);
+        let mut t = [
+            Interval::new(bounds.min.x, bounds.max.x),
+            Interval::new(bounds.min.y, bounds.max.y),
+            Interval::new(bounds.min.z, bounds.max.z),
+        ];
+        let s = self.slack;
+        let moved: Vec<IVec> = self.b.vertices.iter().map(|&w| mat_vec(&r, w)).collect();
+        for _round in 0..6 {
+            let before = t;
+            for link in links {
+                match *link {
+                    Link::MovingPointOnFixedPlane { w, n, d } => {
+                        let coeffs = point(n);
+                        let range = Interval::point(d).sub(dot(coeffs, mat_vec(&r, w))).widen(s);
+                        narrow(Linear { coeffs, range }, &mut t)?;
+                    }
+                    Link::FixedPointOnMovingPlane { a, m, e } => {
+                        let u = mat_vec(&r, m);
+                        let range = dot(u, point(a)).sub(Interval::point(e)).widen(s);
+                        narrow(Linear { coeffs: u, range }, &mut t)?;
+                    }
+                    Link::Crossing { a0, da, b0, db } => {
+                        let n = cross(point(da), mat_vec(&r, db));
+                        let c = sub(point(a0), mat_vec(&r, b0));
+                        let range = dot(n, c).widen(s);
+                        narrow(Linear { coeffs: n, range }, &mut t)?;
+                    }
+                    Link::Region { a, b } => {
+                        let rb = mat_box(&r, b);
+                        for k in 0..3 {
+                            let allowed = Interval::new(a.0[k], a.1[k]).sub(rb[k]).widen(s);
+                            t[k] = t[k].meet(allowed);
+                            if t[k].is_empty() {
+                                return None;
+                            }
+                        }
+                    }
+                }
+            }
+            // No vertex of the moving part strictly inside a convex piece of the fixed.
+            for w in &moved {
+                for piece in &self.a.pieces {
+                    let p = add(*w, t);
+                    self.outside_some(
+                        piece,
+                        |(n, d)| {
+                            let coeffs = point(n);
+                            // n · (R w + t) ≥ d − s
+                            let value = dot(coeffs, p);
+                            let bound = Linear {
+                                coeffs,
+                                range: Interval::new(d - s - dot(coeffs, *w).hi, f64::INFINITY),
+                            };
+                            (value, d - s, bound)
+                        },
+                        &mut t,
+                    )?;
+                }
+            }
+            // No vertex of the fixed part strictly inside a convex piece of the moving.
+            for &a in &self.a.vertices {
+                for piece in &self.b.pieces {
+                    let q = sub(point(a), t);
+                    self.outside_some(
+                        piece,
+                        |(m, e)| {
+                            let u = mat_vec(&r, m);
+                            // (R m) · (a − t) ≥ e − s  ⇔  u · t ≤ u · a − e + s
+                            let value = dot(u, q);
+                            let bound = Linear {
+                                coeffs: u,
+                                range: Interval::new(f64::NEG_INFINITY, dot(u, point(a)).hi - e + s),
+                            };
+                            (value, e - s, bound)
+                        },
+                        &mut t,
+                    )?;
+                }
+            }
+            let shrink: f64 = (0..3).map(|k| before[k].width() - t[k].width()).fold(0.0, f64::max);
+            if shrink <= 1e-3 * (0..3).map(|k| t[k].width()).fold(s, f64::max) {
+                break;
+            }
+        }
+        let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
+        for k in 0..3 {
+            lo[k] = t[k].lo;
+            hi[k] = t[k].hi;
+        }
+        Bounds::try_new(lo, hi).ok()
+    }
+
+    /// A point must be on the outer side (`value ≥ limit`) of at least one plane of a
+    /// piece: when it is certainly inside all but one, that one's bound narrows `t`;
+    /// inside all, the box is empty.
+    fn outside_some(
+        &self,
+        piece: &[(DVec3, f64)],
+        test: impl Fn((DVec3, f64)) -> (Interval, f64, Linear),
+        t: &mut IVec,
+    ) -> Option<()> {
+        let mut candidate = None;
+        for &plane in piece {
+            let (value, limit, bound) = test(plane);
+            if value.hi >= limit {
+                if candidate.is_some() {
+                    return Some(()); // two planes may still hold it out
+                }
+                candidate = Some(bound);
+            }
+        }
+        match candidate {
+            None => None,
+            Some(bound) => narrow(bound, t),
+        }
+    }
+}
+
+/// Narrows `t` by `coeffs · t ∈ range`; `None` when no `t` in the box satisfies it.
+fn narrow(c: Linear, t: &mut IVec) -> Option<()> {
+    let total = dot(c.coeffs, *t);
+    if total.meet(c.range).is_empty() {
+        return None;
+    }
+    for k in 0..3 {
+        if c.coeffs[k].contains_zero() || c.coeffs[k].lo.abs().min(c.coeffs[k].hi.abs()) < 1e-9 {
+            continue;
+        }
+        let rest = (0..3)
+            .filter(|&j| j != k)
+            .fold(c.range, |acc, j| acc.sub(c.coeffs[j].mul(t[j])));
+        t[k] = t[k].meet(rest.div(c.coeffs[k]));
+        if t[k].is_empty() {
+            return None;
+        }
+    }
+    Some(())
+}
+
+fn dimension(e: ElementId) -> u8 {
+    match e {
+        ElementId::Vertex(_) => 0,
+        ElementId::Edge(_) => 1,
+        ElementId::Face(_) => 2,
+    }
+}
+
+/// Indices of the faces whose planes contain an element.
+fn planes_through(part: &Part, e: ElementId) -> Vec<usize> {
+    match e {
+        ElementId::Face(f) => vec![f.index()],
+        ElementId::Edge(x) => part.edge(x).faces.iter().map(|f| f.index()).collect(),
+        ElementId::Vertex(v) => part.vertex(v).faces.iter().map(|f| f.index()).collect(),
+    }
+}
+
+fn point(p: DVec3) -> IVec {
+    [Interval::point(p.x), Interval::point(p.y), Interval::point(p.z)]
+}
+
+fn add(a: IVec, b: IVec) -> IVec {
+    [a[0].add(b[0]), a[1].add(b[1]), a[2].add(b[2])]
+}
+
+fn sub(a: IVec, b: IVec) -> IVec {
+    [a[0].sub(b[0]), a[1].sub(b[1]), a[2].sub(b[2])]
+}
+
+fn dot(a: IVec, b: IVec) -> Interval {
+    a[0].mul(b[0]).add(a[1].mul(b[1])).add(a[2].mul(b[2]))
+}
+
+fn cross(a: IVec, b: IVec) -> IVec {
+    [
+        a[1].mul(b[2]).sub(a[2].mul(b[1])),
+        a[2].mul(b[0]).sub(a[0].mul(b[2])),
+        a[0].mul(b[1]).sub(a[1].mul(b[0])),
+    ]
+}
+
+fn mat_vec(r: &IntervalMat, p: DVec3) -> IVec {
+    std::array::from_fn(|i| dot(r[i], point(p)))
+}
+
+fn mat_box(r: &IntervalMat, (lo, hi): (DVec3, DVec3)) -> IVec {
+    let b = [
+        Interval::new(lo.x, hi.x),
+        Interval::new(lo.y, hi.y),
+        Interval::new(lo.z, hi.z),
+    ];
+    std::array::from_fn(|i| dot(r[i], b))
+}
+
+fn bounds_of(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
+    points.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+        (lo.min(p), hi.max(p))
+    })
+}
+
+/// A coordinate bound standing for "anywhere" (finite, so that `0 · FAR` is 0).
+const FAR: f64 = 1e15;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pose::Pose;
+
+    fn fixture(name: &str) -> Part {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../fixtures")
+            .join(name);
+        Part::from_path(&path).unwrap()
+    }
+
+    /// The box of poses within `eps` of a pose.
+    fn around(pose: [f64; 6], eps: f64) -> Bounds {
+        Bounds::try_new(pose.map(|x| x - eps), pose.map(|x| x + eps)).unwrap()
+    }
+
+    #[test]
+    fn witnesses_are_never_excluded() {
+        let (a, b) = (fixture("block_with_chamfered_hole.off"), fixture("peg.off"));
+        let scene = crate::contact::ContactScene::new(&a, &b);
+        let prover = Prover::new(&a, &b, &DAffine3::IDENTITY, scene.scale());
+        for pose in [
+            [
+                -0.02143060850670711,
+                -1.9414348134915005,
+                0.0,
+                -0.03490658503988659,
+                0.03490658503988659,
+                0.017079582983981333,
+            ],
+            [-1.0, 0.0, 0.0, 4.085204392092581e-17, 1.4704830081180945e-14, 0.0],
+        ] {
+            let t = Pose::from_array(pose).to_affine(&DAffine3::IDENTITY);
+            let state = scene.evaluate(&t, CONTACT_REL).contacts;
+            assert!(!state.is_empty());
+            let r = 2f64.to_radians();
+            let full = Bounds::try_new([-2.0, -2.0, 0.0, -r, -r, -r], [2.0, 2.0, 45.0, r, r, r]).unwrap();
+            assert!(
+                !prover.excludes(&state, &full, 256, &|_| true),
+                "{state:?} in the full bounds"
+            );
+            for eps in [0.0, 1e-9, 1e-4] {
+                assert!(
+                    !prover.excludes(&state, &around(pose, eps), 64, &|_| true),
+                    "{state:?} at {pose:?} ± {eps}"
+                );
+            }
+        }
+    }
+}
