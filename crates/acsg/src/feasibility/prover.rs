@@ -600,4 +600,35 @@ mod tests {
             }
         }
     }
+
+    /// Soundness: every clean state the optimiser reaches on its own (no pruning in the
+    /// way) survives every exclusion test over the bounds it was found in.
+    #[test]
+    fn states_found_without_pruning_are_never_excluded() {
+        let r = 2f64.to_radians();
+        let cases = [
+            (crate::examples::l_block_and_box(), crate::examples::paper_bounds()),
+            (
+                (fixture("block_with_chamfered_hole.off"), fixture("peg.off")),
+                Bounds::try_new([-2.0, -2.0, 0.0, -r, -r, -r], [2.0, 2.0, 45.0, r, r, r]).unwrap(),
+            ),
+        ];
+        for ((a, b), bounds) in cases {
+            let problem = super::super::Problem::new(&a, &b, bounds, DAffine3::IDENTITY);
+            let mut checked = 0;
+            for ppc in super::super::primitive_contacts(&a, &b) {
+                for start in problem.starts(&ppc, 3) {
+                    let pose = problem.solve(&[ppc], start);
+                    if let Some(state) = problem.verify(&pose) {
+                        checked += 1;
+                        assert!(
+                            problem.excluded(&state).is_none(),
+                            "{state:?} excluded, witness {pose:?}"
+                        );
+                    }
+                }
+            }
+            assert!(checked > 20, "only {checked} states reached");
+        }
+    }
 }
