@@ -277,6 +277,20 @@ fn iges_refuses_curved_and_unsupported_entities_by_type_and_de() {
 }
 
 #[test]
+fn iges_refuses_voids_and_transformed_entities() {
+    let peg = text("cad/peg.igs");
+    let solid = "186,3,1,0;      ";
+    assert_eq!(peg.matches(solid).count(), 1);
+    let e = error_of(&peg.replace(solid, "186,3,1,1,3,1;  "), "peg.igs");
+    assert!(e.contains("DE 1") && e.contains("1 void shell"), "{e}");
+    let de = "     186       1       0       0       0       0       0       000000000D0000001";
+    assert_eq!(peg.matches(de).count(), 1);
+    let moved = de.replacen("       0       000000000D", "      99       000000000D", 1);
+    let e = error_of(&peg.replace(de, &moved), "peg.igs");
+    assert!(e.contains("transformation matrix (entity 124, DE 99)"), "{e}");
+}
+
+#[test]
 fn iges_refuses_truncated_and_damaged_files() {
     let peg = text("cad/peg.igs");
     let e = error_of(&peg[..peg.len() / 2], "peg.igs");

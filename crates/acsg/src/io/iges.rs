@@ -347,9 +347,8 @@ impl IgesFile {
                     )
                 })
             };
-            let seq = line
-                .checked_sub(0)
-                .and_then(|_| first.get(73..80))
+            let seq = first
+                .get(73..80)
                 .and_then(|s| s.trim().parse::<usize>().ok())
                 .unwrap_or(entries.len() * 2 + 1);
             let kind = int(first, 0, "entity type")?;
@@ -601,7 +600,7 @@ impl IgesFile {
         from: &Entry,
         cache: &mut HashMap<i64, Vec<DVec3>>,
     ) -> Result<DVec3, ParseError> {
-        if !cache.contains_key(&list) {
+        if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(list) {
             let e = self.entry(list, from, "vertex list pointer")?;
             self.check(e, &[502])?;
             let mut p = self.params(e)?;
@@ -610,7 +609,7 @@ impl IgesFile {
             for _ in 0..n {
                 points.push(p.point(self.to_mm)?);
             }
-            cache.insert(list, points);
+            slot.insert(points);
         }
         let points = cache.get(&list).map(Vec::as_slice).unwrap_or_default();
         usize::try_from(index)
@@ -655,7 +654,7 @@ impl IgesFile {
                     format!("degenerate loops come from curved faces; {EXPORT_HINT}"),
                 ));
             }
-            if !edge_lists.contains_key(&list) {
+            if let std::collections::hash_map::Entry::Vacant(slot) = edge_lists.entry(list) {
                 let le = self.entry(list, e, "edge list pointer")?;
                 self.check(le, &[504])?;
                 let mut q = self.params(le)?;
@@ -670,7 +669,7 @@ impl IgesFile {
                         q.int("an end vertex index")?,
                     ]);
                 }
-                edge_lists.insert(list, edges);
+                slot.insert(edges);
             }
             let edge = edge_lists
                 .get(&list)
