@@ -28,7 +28,7 @@ enum Command {
     /// Show a part's B-rep (faces, edges, vertices, convexity, convex pieces); with a
     /// second part, card(PPC) of the pair (first fixed, second moving).
     Inspect {
-        /// The fixed part (OFF, OBJ, STL or PLY).
+        /// The fixed part (OFF, OBJ, STL, PLY, or STEP/IGES with planar faces, read in mm).
         fixed: PathBuf,
         /// The moving part.
         moving: Option<PathBuf>,

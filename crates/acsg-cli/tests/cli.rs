@@ -444,3 +444,63 @@ fn a_closed_pipe_is_not_an_error() {
     assert!(out.status.success());
     assert!(!String::from_utf8_lossy(&out.stderr).contains("Broken pipe"));
 }
+
+#[test]
+fn inspect_takes_step_and_iges_paths() {
+    acsg()
+        .arg("inspect")
+        .arg(fixture("cad/block_with_hole.step"))
+        .arg(fixture("cad/peg.igs"))
+        .assert()
+        .success()
+        .stdout(contains("2 with holes").and(contains("4 concave")))
+        .stdout(contains("card(PPC) = 368"));
+    let out = acsg()
+        .args(["inspect", "--json"])
+        .arg(fixture("cad/l_block_faces.igs"))
+        .arg(fixture("cad/peg_inch.step"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("valid JSON");
+    assert_eq!(v["parts"][0]["faces"], 8);
+    assert_eq!(v["parts"][0]["volume"], 1_500_000.0);
+    assert_eq!(v["parts"][1]["vertices"], 8);
+}
+
+#[test]
+fn a_curved_step_file_is_refused_naming_the_entity() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(fixture("cad/peg.step")).unwrap();
+    let path = dir.path().join("round.step");
+    std::fs::write(
+        &path,
+        text.replace("#32 = PLANE('',#33);", "#32 = CYLINDRICAL_SURFACE('',#33,5.);"),
+    )
+    .unwrap();
+    acsg().arg("inspect").arg(&path).assert().code(1).stderr(
+        contains("round.step")
+            .and(contains("#32 CYLINDRICAL_SURFACE"))
+            .and(contains("planar")),
+    );
+}
+
+#[test]
+fn generate_takes_cad_parts_and_matches_the_mesh_run() {
+    let run = |fixed: &str, moving: &str| {
+        let out = acsg()
+            .arg("generate")
+            .arg(fixture(fixed))
+            .arg(fixture(moving))
+            .args(["--bounds", "x=-2:2,z=0:5"])
+            .args(["--threads", "1", "--no-timings", "-q"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["states"].clone()
+    };
+    let mesh = run("block_with_hole.off", "peg.off");
+    assert!(!mesh.as_array().unwrap().is_empty());
+    assert_eq!(run("cad/block_with_hole.step", "cad/peg.igs"), mesh);
+}

@@ -10,9 +10,12 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+pub mod iges;
 pub mod obj;
 pub mod off;
+mod planar;
 pub mod ply;
+pub mod step;
 pub mod stl;
 mod text;
 
@@ -93,7 +96,8 @@ impl ParseError {
     }
 }
 
-/// The mesh formats read by this crate.
+/// The model formats read by this crate: meshes (OFF, OBJ, STL, PLY) and CAD B-reps
+/// (STEP, IGES; planar faces only, coordinates converted to millimetres).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
     /// Object File Format (polygon faces).
@@ -104,6 +108,10 @@ pub enum Format {
     Stl,
     /// Stanford PLY, ASCII or binary.
     Ply,
+    /// STEP (ISO 10303-21) AP203/AP214 B-rep with planar faces.
+    Step,
+    /// IGES B-rep (186) or trimmed-surface (144) form with planar faces.
+    Iges,
 }
 
 impl Format {
@@ -116,6 +124,8 @@ impl Format {
             "obj" => Some(Format::Obj),
             "stl" => Some(Format::Stl),
             "ply" => Some(Format::Ply),
+            "step" | "stp" | "p21" => Some(Format::Step),
+            "igs" | "iges" => Some(Format::Iges),
             _ => None,
         }
     }
@@ -134,6 +144,12 @@ impl Format {
         }
         let text = String::from_utf8_lossy(&head[..head.len().min(512)]);
         let first = text.trim_start_matches('\u{feff}').trim_start();
+        if first.starts_with("ISO-10303-21") {
+            return Some(Format::Step);
+        }
+        if iges::looks_like_iges(head) {
+            return Some(Format::Iges);
+        }
         let off_headers = ["OFF", "COFF", "NOFF", "CNOFF", "STOFF", "STCOFF"];
         if first.starts_with("ply") {
             Some(Format::Ply)
@@ -161,6 +177,8 @@ impl Format {
             Format::Obj => obj::read(reader),
             Format::Stl => stl::read(reader),
             Format::Ply => ply::read(reader),
+            Format::Step => step::read(reader),
+            Format::Iges => iges::read(reader),
         }
     }
 }
@@ -172,6 +190,8 @@ impl fmt::Display for Format {
             Format::Obj => "OBJ",
             Format::Stl => "STL",
             Format::Ply => "PLY",
+            Format::Step => "STEP",
+            Format::Iges => "IGES",
         })
     }
 }
@@ -206,7 +226,7 @@ pub enum ReadError {
         limit: u64,
     },
     /// Neither the extension nor the content tells the format.
-    #[error("{path}: unknown model format (use a .off, .obj, .stl or .ply file)")]
+    #[error("{path}: unknown model format (use a .off, .obj, .stl, .ply, .step/.stp or .igs/.iges file)")]
     UnknownFormat {
         /// The file.
         path: PathBuf,

@@ -1,0 +1,879 @@
+//! Reader of STEP (ISO 10303-21) files holding one planar solid, AP203 or AP214.
+//!
+//! A focused Part 21 reader for the planar B-rep subset: `MANIFOLD_SOLID_BREP` or
+//! `FACETED_BREP` over a `CLOSED_SHELL` of `ADVANCED_FACE` / `FACE_SURFACE` (or
+//! `ORIENTED_FACE`) on a `PLANE` (`AXIS2_PLACEMENT_3D`), bounded by
+//! `FACE_OUTER_BOUND` / `FACE_BOUND` over `EDGE_LOOP`s of `ORIENTED_EDGE`s of
+//! `EDGE_CURVE`s between `VERTEX_POINT`s, whose geometry is a `LINE` (also inside a
+//! `SURFACE_CURVE` or `SEAM_CURVE`), or over `POLY_LOOP`s of `CARTESIAN_POINT`s. The
+//! faces' `same_sense` and the oriented faces' and bounds' orientation flags are
+//! honoured; the outer loop is the `FACE_OUTER_BOUND`, else the loop of largest area.
+//!
+//! Coordinates are converted to **millimetres** from the length unit of the
+//! representation context (`GLOBAL_UNIT_ASSIGNED_CONTEXT`): an `SI_UNIT` of metres with
+//! any prefix, or a `CONVERSION_BASED_UNIT` (inch, foot, ...) through its
+//! `LENGTH_MEASURE_WITH_UNIT`.
+//!
+//! Curved surfaces (`CYLINDRICAL_SURFACE`, `B_SPLINE_SURFACE_WITH_KNOTS`, ...), curved
+//! edges (`CIRCLE`, `B_SPLINE_CURVE_WITH_KNOTS`, ...) and solids with voids are refused,
+//! naming the instance (`#id` and type).
+//!
+//! Why not `truck-stepio` (0.3.0, the crate DOMAIN.md names): measured on this 2-core
+//! machine, a clean build of it with the workspace's profile (dependencies at
+//! opt-level 2) costs about 270 s of CPU (255 s user + 14 s system; 54 s of CPU at
+//! opt-level 0) and about 100 crates (ruststep, truck-geometry, -modeling, -topology,
+//! -polymesh, chrono, rand, cgmath, ...), and its `in` feature does not compile without
+//! the default `derive` feature. Its reader also ignores length units, returns
+//! `Option` from `Table::from_step` (no line or instance in the message), and prints
+//! conversion errors to standard error. This reader covers the planar subset in a few
+//! hundred lines, with units and the `#id` of every refused instance.
+
+use std::collections::HashMap;
+use std::io::Read;
+
+use glam::DVec3;
+
+use super::planar::{PlanarFace, soup_from_faces};
+use super::text::read_limited;
+use super::{MeshSoup, ParseError, Place};
+
+/// What every refusal suggests.
+const EXPORT_HINT: &str =
+    "export the part as a planar (faceted) solid, e.g. STEP AP214 with planar faces, or as a mesh (OFF, STL, OBJ, PLY)";
+
+/// Nesting limit for lists and typed parameters.
+const MAX_DEPTH: usize = 32;
+
+/// A parameter value of an instance.
+#[derive(Clone, Debug, PartialEq)]
+enum Value {
+    Number(f64),
+    Text(String),
+    Enum(String),
+    Ref(u64),
+    Unset,
+    List(Vec<Value>),
+    Typed(String, Box<Value>),
+}
+
+/// One entity instance: a simple one has one part, a complex one `( A() B() )` several.
+#[derive(Clone, Debug)]
+struct Instance {
+    line: usize,
+    parts: Vec<(String, Vec<Value>)>,
+}
+
+impl Instance {
+    fn part(&self, name: &str) -> Option<&[Value]> {
+        self.parts.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_slice())
+    }
+
+    fn type_name(&self) -> String {
+        match self.parts.as_slice() {
+            [(name, _)] => name.clone(),
+            parts => format!(
+                "({})",
+                parts.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(" ")
+            ),
+        }
+    }
+}
+
+/// Reads a STEP file holding one planar solid; coordinates come out in millimetres.
+///
+/// # Errors
+/// A [`ParseError`] naming the line (and the instance `#id` and type) and the fix: a
+/// file that is not STEP Part 21, a truncated file, a missing or unknown length unit, a
+/// curved surface or edge, a broken reference, a non-planar face or a loop that does
+/// not close.
+pub fn read(reader: impl Read) -> Result<MeshSoup, ParseError> {
+    let bytes = read_limited(reader)?;
+    let text = String::from_utf8_lossy(&bytes);
+    let instances = parse(&text)?;
+    let model = Model {
+        to_mm: length_unit(&instances)?,
+        instances,
+    };
+    let faces = model.faces()?;
+    soup_from_faces(faces, EXPORT_HINT)
+}
+
+/// A cursor over the text, counting lines.
+struct Lexer<'a> {
+    bytes: &'a [u8],
+    at: usize,
+    line: usize,
+}
+
+impl Lexer<'_> {
+    fn error(&self, problem: impl Into<String>) -> ParseError {
+        ParseError::new(
+            Place::Line(self.line),
+            problem,
+            "the file is damaged or truncated; export it again",
+        )
+    }
+
+    fn peek(&self) -> Option<u8> {
+        self.bytes.get(self.at).copied()
+    }
+
+    /// Skips white space and `/* ... */` comments.
+    fn skip(&mut self) -> Result<(), ParseError> {
+        loop {
+            match self.peek() {
+                Some(b'\n') => {
+                    self.line += 1;
+                    self.at += 1;
+                }
+                Some(b) if b.is_ascii_whitespace() => self.at += 1,
+                Some(b'/') if self.bytes.get(self.at + 1) == Some(&b'*') => {
+                    self.at += 2;
+                    loop {
+                        match self.peek() {
+                            None => return Err(self.error("a comment `/*` is never closed")),
+                            Some(b'*') if self.bytes.get(self.at + 1) == Some(&b'/') => {
+                                self.at += 2;
+                                break;
+                            }
+                            Some(b) => {
+                                if b == b'\n' {
+                                    self.line += 1;
+                                }
+                                self.at += 1;
+                            }
+                        }
+                    }
+                }
+                _ => return Ok(()),
+            }
+        }
+    }
+
+    fn expect(&mut self, byte: u8) -> Result<(), ParseError> {
+        self.skip()?;
+        if self.peek() == Some(byte) {
+            self.at += 1;
+            Ok(())
+        } else {
+            Err(self.found(&format!("`{}`", byte as char)))
+        }
+    }
+
+    fn found(&self, expected: &str) -> ParseError {
+        match self.peek() {
+            None => self.error(format!("the file ends where {expected} was expected")),
+            Some(b) => self.error(format!("expected {expected}, found `{}`", b as char)),
+        }
+    }
+
+    fn keyword(&mut self) -> String {
+        let start = self.at;
+        while self
+            .peek()
+            .is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-')
+        {
+            self.at += 1;
+        }
+        String::from_utf8_lossy(&self.bytes[start..self.at]).to_ascii_uppercase()
+    }
+
+    fn number(&mut self) -> u64 {
+        let start = self.at;
+        while self.peek().is_some_and(|b| b.is_ascii_digit()) {
+            self.at += 1;
+        }
+        std::str::from_utf8(&self.bytes[start..self.at])
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(u64::MAX)
+    }
+
+    /// A parenthesised parameter list.
+    fn list(&mut self, depth: usize) -> Result<Vec<Value>, ParseError> {
+        if depth > MAX_DEPTH {
+            return Err(self.error("lists nest too deep"));
+        }
+        self.expect(b'(')?;
+        let mut values = Vec::new();
+        self.skip()?;
+        if self.peek() == Some(b')') {
+            self.at += 1;
+            return Ok(values);
+        }
+        loop {
+            values.push(self.value(depth)?);
+            self.skip()?;
+            match self.peek() {
+                Some(b',') => self.at += 1,
+                Some(b')') => {
+                    self.at += 1;
+                    return Ok(values);
+                }
+                _ => return Err(self.found("`,` or `)`")),
+            }
+        }
+    }
+
+    fn value(&mut self, depth: usize) -> Result<Value, ParseError> {
+        self.skip()?;
+        match self.peek() {
+            Some(b'$' | b'*') => {
+                self.at += 1;
+                Ok(Value::Unset)
+            }
+            Some(b'#') => {
+                self.at += 1;
+                Ok(Value::Ref(self.number()))
+            }
+            Some(b'(') => Ok(Value::List(self.list(depth + 1)?)),
+            Some(b'\'') => {
+                self.at += 1;
+                let mut s = Vec::new();
+                loop {
+                    match self.peek() {
+                        None => return Err(self.error("a string is never closed")),
+                        Some(b'\'') if self.bytes.get(self.at + 1) == Some(&b'\'') => {
+                            s.push(b'\'');
+                            self.at += 2;
+                        }
+                        Some(b'\'') => {
+                            self.at += 1;
+                            return Ok(Value::Text(String::from_utf8_lossy(&s).into_owned()));
+                        }
+                        Some(b) => {
+                            if b == b'\n' {
+                                self.line += 1;
+                            }
+                            s.push(b);
+                            self.at += 1;
+                        }
+                    }
+                }
+            }
+            Some(b'.') if self.bytes.get(self.at + 1).is_some_and(u8::is_ascii_alphabetic) => {
+                self.at += 1;
+                let name = self.keyword();
+                self.expect(b'.')?;
+                Ok(Value::Enum(name))
+            }
+            Some(b'"') => {
+                self.at += 1;
+                while self.peek().is_some_and(|b| b != b'"') {
+                    self.at += 1;
+                }
+                self.expect(b'"')?;
+                Ok(Value::Text(String::new()))
+            }
+            Some(b) if b.is_ascii_alphabetic() => {
+                let name = self.keyword();
+                let mut inner = self.list(depth + 1)?;
+                let value = if inner.len() == 1 {
+                    inner.remove(0)
+                } else {
+                    Value::List(inner)
+                };
+                Ok(Value::Typed(name, Box::new(value)))
+            }
+            Some(b) if b.is_ascii_digit() || matches!(b, b'-' | b'+' | b'.') => {
+                let start = self.at;
+                while self
+                    .peek()
+                    .is_some_and(|b| b.is_ascii_digit() || matches!(b, b'-' | b'+' | b'.' | b'E' | b'e'))
+                {
+                    self.at += 1;
+                }
+                let token = String::from_utf8_lossy(&self.bytes[start..self.at]).into_owned();
+                match token.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Ok(Value::Number(v)),
+                    _ => Err(self.error(format!("`{token}` is not a finite number"))),
+                }
+            }
+            _ => Err(self.found("a value")),
+        }
+    }
+}
+
+/// The instances of the DATA section, by id.
+fn parse(text: &str) -> Result<HashMap<u64, Instance>, ParseError> {
+    let start = text.trim_start_matches('\u{feff}').trim_start();
+    if !start.starts_with("ISO-10303-21") {
+        return Err(ParseError::new(
+            Place::Line(1),
+            "the file does not start with `ISO-10303-21;`: it is not a STEP (Part 21) file",
+            "export the part as STEP AP203/AP214, or give a mesh file (OFF, STL, OBJ, PLY)",
+        ));
+    }
+    let Some(data) = text.find("DATA;") else {
+        return Err(ParseError::new(
+            Place::Whole,
+            "the file has no DATA section: it looks truncated",
+            "export the file again and copy it whole",
+        ));
+    };
+    let mut lexer = Lexer {
+        bytes: text.as_bytes(),
+        at: data + "DATA;".len(),
+        line: 1 + text[..data].matches('\n').count(),
+    };
+    let mut instances = HashMap::new();
+    loop {
+        lexer.skip()?;
+        match lexer.peek() {
+            Some(b'#') => {
+                lexer.at += 1;
+                let line = lexer.line;
+                let id = lexer.number();
+                lexer.expect(b'=')?;
+                lexer.skip()?;
+                let parts = if lexer.peek() == Some(b'(') {
+                    lexer.at += 1;
+                    let mut parts = Vec::new();
+                    loop {
+                        lexer.skip()?;
+                        if lexer.peek() == Some(b')') {
+                            lexer.at += 1;
+                            break;
+                        }
+                        let name = lexer.keyword();
+                        if name.is_empty() {
+                            return Err(lexer.found("an entity name"));
+                        }
+                        parts.push((name, lexer.list(0)?));
+                    }
+                    parts
+                } else {
+                    let name = lexer.keyword();
+                    if name.is_empty() {
+                        return Err(lexer.found("an entity name"));
+                    }
+                    vec![(name, lexer.list(0)?)]
+                };
+                lexer.expect(b';')?;
+                if instances.insert(id, Instance { line, parts }).is_some() {
+                    return Err(lexer.error(format!("instance #{id} is defined twice")));
+                }
+            }
+            Some(b'E') => {
+                if lexer.keyword() == "ENDSEC" {
+                    lexer.expect(b';')?;
+                    return Ok(instances);
+                }
+                return Err(lexer.error("expected an instance `#id = ...;` or `ENDSEC;`"));
+            }
+            None => {
+                return Err(ParseError::new(
+                    Place::Line(lexer.line),
+                    "the file ends inside the DATA section (no `ENDSEC;`): it looks truncated",
+                    "export the file again and copy it whole",
+                ));
+            }
+            _ => return Err(lexer.found("an instance `#id = ...;` or `ENDSEC;`")),
+        }
+    }
+}
+
+/// Millimetres per unit of a length unit instance.
+fn unit_mm(instances: &HashMap<u64, Instance>, id: u64, depth: usize) -> Result<f64, ParseError> {
+    let fix = "export with a length unit of millimetres, metres or inches";
+    let Some(unit) = instances.get(&id) else {
+        return Err(ParseError::new(
+            Place::Whole,
+            format!("the length unit #{id} does not exist"),
+            fix,
+        ));
+    };
+    let place = Place::Line(unit.line);
+    let name = unit.type_name();
+    if depth > 4 {
+        return Err(ParseError::new(
+            place,
+            format!("#{id} {name}: units refer to each other in a cycle"),
+            fix,
+        ));
+    }
+    if let Some(si) = unit.part("SI_UNIT") {
+        let prefix = match si.first() {
+            Some(Value::Enum(p)) => Some(p.as_str()),
+            _ => None,
+        };
+        let base = match si.get(1) {
+            Some(Value::Enum(b)) => b.as_str(),
+            _ => "",
+        };
+        if base != "METRE" {
+            return Err(ParseError::new(
+                place,
+                format!("#{id} {name}: the length unit is SI `{base}`, not a length (METRE)"),
+                fix,
+            ));
+        }
+        let factor = match prefix {
+            None => 1000.0,
+            Some("MILLI") => 1.0,
+            Some("CENTI") => 10.0,
+            Some("DECI") => 100.0,
+            Some("MICRO") => 1e-3,
+            Some("NANO") => 1e-6,
+            Some("KILO") => 1e6,
+            Some(other) => {
+                return Err(ParseError::new(
+                    place,
+                    format!("#{id} {name}: the SI prefix `{other}` is not one acsg knows for lengths"),
+                    fix,
+                ));
+            }
+        };
+        return Ok(factor);
+    }
+    if let Some(conversion) = unit.part("CONVERSION_BASED_UNIT") {
+        let label = match conversion.first() {
+            Some(Value::Text(t)) => t.clone(),
+            _ => String::new(),
+        };
+        let Some(Value::Ref(measure)) = conversion.get(1) else {
+            return Err(ParseError::new(
+                place,
+                format!("#{id} {name} ('{label}') has no conversion factor"),
+                fix,
+            ));
+        };
+        let Some(m) = instances.get(measure) else {
+            return Err(ParseError::new(
+                place,
+                format!("#{id} {name} ('{label}'): #{measure} does not exist"),
+                fix,
+            ));
+        };
+        let args = m.parts.first().map(|(_, v)| v.as_slice()).unwrap_or_default();
+        let value = match args.first() {
+            Some(Value::Number(v)) => Some(*v),
+            Some(Value::Typed(_, v)) => match v.as_ref() {
+                Value::Number(v) => Some(*v),
+                _ => None,
+            },
+            _ => None,
+        };
+        let (Some(value), Some(Value::Ref(base))) = (value, args.get(1)) else {
+            return Err(ParseError::new(
+                Place::Line(m.line),
+                format!(
+                    "#{measure} {}: the conversion of '{label}' is not a measure with a unit",
+                    m.type_name()
+                ),
+                fix,
+            ));
+        };
+        let mm = value * unit_mm(instances, *base, depth + 1)?;
+        if !(mm.is_finite() && mm > 0.0) {
+            return Err(ParseError::new(
+                place,
+                format!("#{id} {name}: '{label}' converts to {mm} mm"),
+                fix,
+            ));
+        }
+        return Ok(mm);
+    }
+    Err(ParseError::new(
+        place,
+        format!("#{id} {name} is not a length unit acsg knows (SI_UNIT or CONVERSION_BASED_UNIT)"),
+        fix,
+    ))
+}
+
+/// Millimetres per file unit, from the length unit of the global unit contexts.
+fn length_unit(instances: &HashMap<u64, Instance>) -> Result<f64, ParseError> {
+    let mut ids: Vec<(u64, usize)> = Vec::new();
+    for instance in instances.values() {
+        let Some(args) = instance.part("GLOBAL_UNIT_ASSIGNED_CONTEXT") else {
+            continue;
+        };
+        let Some(Value::List(units)) = args.first() else {
+            continue;
+        };
+        for unit in units {
+            if let Value::Ref(r) = unit
+                && instances.get(r).is_some_and(|u| u.part("LENGTH_UNIT").is_some())
+            {
+                ids.push((*r, instance.line));
+            }
+        }
+    }
+    ids.sort_unstable();
+    ids.dedup_by_key(|(r, _)| *r);
+    let Some(&(first, _)) = ids.first() else {
+        return Err(ParseError::new(
+            Place::Whole,
+            "the file declares no length unit (no LENGTH_UNIT in a GLOBAL_UNIT_ASSIGNED_CONTEXT)",
+            "export with a length unit (millimetres recommended)",
+        ));
+    };
+    let mm = unit_mm(instances, first, 0)?;
+    for &(other, line) in &ids[1..] {
+        let other_mm = unit_mm(instances, other, 0)?;
+        if (other_mm - mm).abs() > 1e-12 * mm {
+            return Err(ParseError::new(
+                Place::Line(line),
+                format!("the file declares two different length units (#{first} and #{other})"),
+                "export the part alone, with one length unit",
+            ));
+        }
+    }
+    Ok(mm)
+}
+
+struct Model {
+    instances: HashMap<u64, Instance>,
+    to_mm: f64,
+}
+
+/// Entities that make a face or an edge curved.
+const CURVED: &[&str] = &[
+    "CYLINDRICAL_SURFACE",
+    "CONICAL_SURFACE",
+    "SPHERICAL_SURFACE",
+    "TOROIDAL_SURFACE",
+    "DEGENERATE_TOROIDAL_SURFACE",
+    "B_SPLINE_SURFACE",
+    "B_SPLINE_SURFACE_WITH_KNOTS",
+    "BEZIER_SURFACE",
+    "RATIONAL_B_SPLINE_SURFACE",
+    "SURFACE_OF_LINEAR_EXTRUSION",
+    "SURFACE_OF_REVOLUTION",
+    "OFFSET_SURFACE",
+    "CIRCLE",
+    "ELLIPSE",
+    "HYPERBOLA",
+    "PARABOLA",
+    "B_SPLINE_CURVE",
+    "B_SPLINE_CURVE_WITH_KNOTS",
+    "BEZIER_CURVE",
+    "RATIONAL_B_SPLINE_CURVE",
+    "TRIMMED_CURVE",
+    "OFFSET_CURVE_3D",
+];
+
+impl Model {
+    fn get(&self, id: u64, from: (u64, &Instance), what: &str) -> Result<&Instance, ParseError> {
+        self.instances.get(&id).ok_or_else(|| {
+            ParseError::new(
+                Place::Line(from.1.line),
+                format!("#{} {}: its {what} #{id} does not exist", from.0, from.1.type_name()),
+                "the file is damaged or truncated; export it again",
+            )
+        })
+    }
+
+    /// The arguments of `instance` as one of `allowed`; anything else is refused.
+    fn args<'a>(
+        &self,
+        id: u64,
+        instance: &'a Instance,
+        allowed: &[&str],
+    ) -> Result<(&'a str, &'a [Value]), ParseError> {
+        for (name, args) in &instance.parts {
+            if allowed.contains(&name.as_str()) {
+                return Ok((name.as_str(), args.as_slice()));
+            }
+        }
+        let name = instance.type_name();
+        let curved = instance.parts.iter().any(|(n, _)| CURVED.contains(&n.as_str()));
+        let problem = if curved {
+            format!("#{id} {name} is curved; acsg reads planar (polyhedral) solids only")
+        } else {
+            format!("#{id} {name} is not supported here (expected {})", allowed.join(" or "))
+        };
+        Err(ParseError::new(Place::Line(instance.line), problem, EXPORT_HINT))
+    }
+
+    fn bad(&self, id: u64, instance: &Instance, problem: &str) -> ParseError {
+        ParseError::new(
+            Place::Line(instance.line),
+            format!("#{id} {}: {problem}", instance.type_name()),
+            "the file is damaged; export it again",
+        )
+    }
+
+    fn reference(&self, id: u64, instance: &Instance, value: Option<&Value>, what: &str) -> Result<u64, ParseError> {
+        match value {
+            Some(Value::Ref(r)) => Ok(*r),
+            _ => Err(self.bad(id, instance, &format!("its {what} is not a reference"))),
+        }
+    }
+
+    fn logical(&self, id: u64, instance: &Instance, value: Option<&Value>, what: &str) -> Result<bool, ParseError> {
+        match value {
+            Some(Value::Enum(e)) if e == "T" => Ok(true),
+            Some(Value::Enum(e)) if e == "F" => Ok(false),
+            _ => Err(self.bad(id, instance, &format!("its {what} is not .T. or .F."))),
+        }
+    }
+
+    fn triple(&self, id: u64, instance: &Instance, value: Option<&Value>) -> Result<DVec3, ParseError> {
+        if let Some(Value::List(c)) = value
+            && let [Value::Number(x), Value::Number(y), Value::Number(z)] = c.as_slice()
+        {
+            return Ok(DVec3::new(*x, *y, *z));
+        }
+        Err(self.bad(id, instance, "it does not hold three numbers"))
+    }
+
+    fn point(&self, id: u64, from: (u64, &Instance)) -> Result<DVec3, ParseError> {
+        let p = self.get(id, from, "point")?;
+        let (_, args) = self.args(id, p, &["CARTESIAN_POINT"])?;
+        Ok(self.triple(id, p, args.get(1))? * self.to_mm)
+    }
+
+    fn faces(&self) -> Result<Vec<PlanarFace>, ParseError> {
+        let mut ids: Vec<&u64> = self.instances.keys().collect();
+        ids.sort_unstable();
+        let find = |name: &str| {
+            ids.iter()
+                .copied()
+                .filter(|id| self.instances.get(id).is_some_and(|i| i.part(name).is_some()))
+                .copied()
+                .collect::<Vec<u64>>()
+        };
+        if let Some(&id) = find("BREP_WITH_VOIDS").first() {
+            let i = &self.instances[&id];
+            return Err(ParseError::new(
+                Place::Line(i.line),
+                format!("#{id} BREP_WITH_VOIDS: the solid has internal voids"),
+                "acsg reads solids with one closed outer surface and no voids",
+            ));
+        }
+        let mut shells = Vec::new();
+        for id in find("MANIFOLD_SOLID_BREP").into_iter().chain(find("FACETED_BREP")) {
+            let i = &self.instances[&id];
+            let (_, args) = self.args(id, i, &["MANIFOLD_SOLID_BREP", "FACETED_BREP"])?;
+            shells.push(self.reference(id, i, args.get(1), "outer shell")?);
+        }
+        if shells.is_empty() {
+            shells = find("CLOSED_SHELL");
+        }
+        if shells.is_empty() {
+            // Name what is there instead: a curved or surface model.
+            let curved = ids.iter().find(|id| {
+                self.instances
+                    .get(id)
+                    .is_some_and(|i| i.parts.iter().any(|(n, _)| CURVED.contains(&n.as_str())))
+            });
+            return Err(match curved {
+                Some(&&id) => {
+                    let i = &self.instances[&id];
+                    ParseError::new(
+                        Place::Line(i.line),
+                        format!("the file holds no planar solid; #{id} {} is curved", i.type_name()),
+                        EXPORT_HINT,
+                    )
+                }
+                None => ParseError::new(
+                    Place::Whole,
+                    "the file holds no solid (no MANIFOLD_SOLID_BREP, FACETED_BREP or CLOSED_SHELL)",
+                    EXPORT_HINT,
+                ),
+            });
+        }
+        let mut faces = Vec::new();
+        for shell in shells {
+            let Some(s) = self.instances.get(&shell) else {
+                return Err(ParseError::new(
+                    Place::Whole,
+                    format!("the solid's shell #{shell} does not exist"),
+                    "the file is damaged or truncated; export it again",
+                ));
+            };
+            let (_, args) = self.args(shell, s, &["CLOSED_SHELL"])?;
+            let Some(Value::List(list)) = args.get(1) else {
+                return Err(self.bad(shell, s, "its faces are not a list"));
+            };
+            for f in list {
+                let f = self.reference(shell, s, Some(f), "face")?;
+                faces.push(self.face(f, (shell, s), true, 0)?);
+            }
+        }
+        Ok(faces)
+    }
+
+    fn face(&self, id: u64, from: (u64, &Instance), outward: bool, depth: usize) -> Result<PlanarFace, ParseError> {
+        let f = self.get(id, from, "face")?;
+        let (kind, args) = self.args(id, f, &["ADVANCED_FACE", "FACE_SURFACE", "ORIENTED_FACE"])?;
+        if kind == "ORIENTED_FACE" {
+            let inner = self.reference(id, f, args.get(2), "face element")?;
+            let same = self.logical(id, f, args.get(3), "orientation")?;
+            if depth > 4 {
+                return Err(self.bad(id, f, "oriented faces refer to each other in a cycle"));
+            }
+            return self.face(inner, (id, f), outward == same, depth + 1);
+        }
+        let surface = self.reference(id, f, args.get(2), "surface")?;
+        let same_sense = self.logical(id, f, args.get(3), "same_sense flag")?;
+        let normal = self.plane_normal(surface, (id, f))?;
+        let Some(Value::List(bounds)) = args.get(1) else {
+            return Err(self.bad(id, f, "its bounds are not a list"));
+        };
+        let mut loops = Vec::with_capacity(bounds.len());
+        let mut outer = None;
+        for b in bounds {
+            let b = self.reference(id, f, Some(b), "bound")?;
+            let bi = self.get(b, (id, f), "bound")?;
+            let (bkind, bargs) = self.args(b, bi, &["FACE_OUTER_BOUND", "FACE_BOUND"])?;
+            if bkind == "FACE_OUTER_BOUND" {
+                outer = Some(loops.len());
+            }
+            let l = self.reference(b, bi, bargs.get(1), "loop")?;
+            loops.push(self.loop_points(l, (b, bi))?);
+        }
+        Ok(PlanarFace {
+            normal: if outward == same_sense { normal } else { -normal },
+            loops,
+            outer,
+            name: format!("face #{id}"),
+            place: Place::Line(f.line),
+        })
+    }
+
+    fn plane_normal(&self, id: u64, from: (u64, &Instance)) -> Result<DVec3, ParseError> {
+        let s = self.get(id, from, "surface")?;
+        let (_, args) = self.args(id, s, &["PLANE"])?;
+        let placement = self.reference(id, s, args.get(1), "placement")?;
+        let p = self.get(placement, (id, s), "placement")?;
+        let (_, pargs) = self.args(placement, p, &["AXIS2_PLACEMENT_3D"])?;
+        match pargs.get(2) {
+            Some(Value::Ref(axis)) => self.direction(*axis, (placement, p)),
+            _ => Ok(DVec3::Z),
+        }
+    }
+
+    fn direction(&self, id: u64, from: (u64, &Instance)) -> Result<DVec3, ParseError> {
+        let d = self.get(id, from, "direction")?;
+        let (_, args) = self.args(id, d, &["DIRECTION"])?;
+        self.triple(id, d, args.get(1))
+    }
+
+    fn loop_points(&self, id: u64, from: (u64, &Instance)) -> Result<Vec<DVec3>, ParseError> {
+        let l = self.get(id, from, "loop")?;
+        let (kind, args) = self.args(id, l, &["EDGE_LOOP", "POLY_LOOP"])?;
+        let Some(Value::List(items)) = args.get(1) else {
+            return Err(self.bad(id, l, "its edges are not a list"));
+        };
+        if kind == "POLY_LOOP" {
+            return items
+                .iter()
+                .map(|p| self.point(self.reference(id, l, Some(p), "point")?, (id, l)))
+                .collect();
+        }
+        let mut points = Vec::with_capacity(items.len());
+        let mut ends = Vec::with_capacity(items.len());
+        for item in items {
+            let oe = self.reference(id, l, Some(item), "oriented edge")?;
+            let o = self.get(oe, (id, l), "oriented edge")?;
+            let (_, oargs) = self.args(oe, o, &["ORIENTED_EDGE"])?;
+            let edge = self.reference(oe, o, oargs.get(3), "edge element")?;
+            let forward = self.logical(oe, o, oargs.get(4), "orientation")?;
+            let e = self.get(edge, (oe, o), "edge")?;
+            let (_, eargs) = self.args(edge, e, &["EDGE_CURVE"])?;
+            let start = self.vertex(self.reference(edge, e, eargs.get(1), "start vertex")?, (edge, e))?;
+            let end = self.vertex(self.reference(edge, e, eargs.get(2), "end vertex")?, (edge, e))?;
+            let curve = self.reference(edge, e, eargs.get(3), "curve")?;
+            self.check_line(curve, (edge, e), 0)?;
+            let (a, b) = if forward { (start, end) } else { (end, start) };
+            points.push(a);
+            ends.push((oe, o, b));
+        }
+        // The oriented edges must join head to tail.
+        let n = points.len();
+        let size = points.iter().map(|p| p.abs().max_element()).fold(1.0, f64::max);
+        for (k, (oe, o, end)) in ends.iter().enumerate() {
+            let next = points[(k + 1) % n];
+            if end.distance(next) > 1e-7 * size {
+                return Err(ParseError::new(
+                    Place::Line(o.line),
+                    format!("#{oe} ORIENTED_EDGE of loop #{id}: it ends where the next edge does not start"),
+                    "the loop is broken; export the file again",
+                ));
+            }
+        }
+        Ok(points)
+    }
+
+    fn vertex(&self, id: u64, from: (u64, &Instance)) -> Result<DVec3, ParseError> {
+        let v = self.get(id, from, "vertex")?;
+        let (_, args) = self.args(id, v, &["VERTEX_POINT"])?;
+        self.point(self.reference(id, v, args.get(1), "point")?, (id, v))
+    }
+
+    /// An edge's geometry must be straight: a LINE (also as a surface curve's 3D curve)
+    /// or a two-point POLYLINE.
+    fn check_line(&self, id: u64, from: (u64, &Instance), depth: usize) -> Result<(), ParseError> {
+        let c = self.get(id, from, "curve")?;
+        let (kind, args) = self.args(id, c, &["LINE", "POLYLINE", "SURFACE_CURVE", "SEAM_CURVE"])?;
+        match kind {
+            "POLYLINE" => match args.get(1) {
+                Some(Value::List(points)) if points.len() == 2 => Ok(()),
+                _ => Err(ParseError::new(
+                    Place::Line(c.line),
+                    format!("#{id} POLYLINE: an edge curve with more than two points is not straight"),
+                    EXPORT_HINT,
+                )),
+            },
+            "SURFACE_CURVE" | "SEAM_CURVE" if depth < 4 => {
+                let inner = self.reference(id, c, args.get(1), "3D curve")?;
+                self.check_line(inner, (id, c), depth + 1)
+            }
+            "LINE" => Ok(()),
+            _ => Err(self.bad(id, c, "surface curves nest too deep")),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::text::testing::{read_every_prefix, xorshift};
+    use super::*;
+
+    const PEG: &str = include_str!("../../../../fixtures/cad/peg.step");
+
+    #[test]
+    fn the_peg_reads_with_six_faces() {
+        let soup = read(PEG.as_bytes()).expect("reads");
+        assert_eq!(soup.polygons.len(), 6);
+    }
+
+    #[test]
+    fn values_parse() {
+        let text =
+            "ISO-10303-21;\nDATA;\n#1 = A('it''s', (1., -2.5E1, #3), .T., $, *, B(4.));\n#2 = ( C() D(1) );\nENDSEC;\n";
+        let instances = parse(text).expect("parses");
+        let a = &instances[&1];
+        assert_eq!(a.line, 3);
+        assert_eq!(
+            a.parts[0].1,
+            vec![
+                Value::Text("it's".into()),
+                Value::List(vec![Value::Number(1.0), Value::Number(-25.0), Value::Ref(3)]),
+                Value::Enum("T".into()),
+                Value::Unset,
+                Value::Unset,
+                Value::Typed("B".into(), Box::new(Value::Number(4.0))),
+            ]
+        );
+        assert_eq!(instances[&2].type_name(), "(C D)");
+    }
+
+    #[test]
+    fn no_prefix_or_mutation_panics() {
+        read_every_prefix(|b| read(b), &PEG.as_bytes()[..PEG.len().min(4000)]);
+        let mut state = 0x9e37_79b9_u64;
+        for _ in 0..300 {
+            let mut bytes = PEG.as_bytes().to_vec();
+            for _ in 0..4 {
+                let at = (xorshift(&mut state) as usize) % bytes.len();
+                bytes[at] = b" 0123456789,;#().'$*TFE"[(xorshift(&mut state) % 23) as usize];
+            }
+            let _ = read(bytes.as_slice());
+        }
+        let deep = format!("ISO-10303-21;\nDATA;\n#1 = A({});\nENDSEC;\n", "(".repeat(10_000));
+        assert!(read(deep.as_bytes()).is_err());
+    }
+}
