@@ -153,9 +153,9 @@
       pixelRatio: LARGE ? 1 : 'auto',
       style: [
         { selector: 'node', style: {
-          'width': 30, 'height': 30, 'background-color': 'data(colour)', 'border-width': 1, 'border-color': '#556',
-          'label': 'data(label)', 'font-size': 12, 'text-valign': 'center', 'text-halign': 'center',
-          'color': '#111', 'text-outline-color': '#fff', 'text-outline-width': 2, 'min-zoomed-font-size': 7
+          'width': 40, 'height': 40, 'background-color': 'data(colour)', 'border-width': 1, 'border-color': '#556',
+          'label': 'data(label)', 'font-size': 17, 'text-valign': 'center', 'text-halign': 'center',
+          'color': '#111', 'text-outline-color': '#fff', 'text-outline-width': 2, 'min-zoomed-font-size': 5
         } },
         { selector: 'edge', style: { 'width': 1.2, 'line-color': '#9aa3b2', 'curve-style': 'haystack', 'opacity': 0.8 } },
         { selector: 'node.sel', style: { 'border-width': 5, 'border-color': '#e03131', 'z-index': 10 } },
@@ -235,7 +235,7 @@
         geometry.setAttribute('normal', new THREE.Float32BufferAttribute(normals, 3));
         geometry.setIndex(flat);
         var material = new THREE.MeshLambertMaterial({
-          color: colour, side: THREE.DoubleSide, transparent: opacity < 1, opacity: opacity,
+          color: colour, side: THREE.DoubleSide, transparent: opacity < 1, opacity: opacity, depthWrite: opacity >= 1,
           polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1
         });
         var mesh = new THREE.Mesh(geometry, material);
@@ -253,7 +253,8 @@
       return { P: P, group: group, faces: faceMeshes, marks: marks, colour: new THREE.Color(colour) };
     }
     var A = buildPart(G.fixed, 0x9fb3c8, 1);
-    var B = buildPart(G.moving, 0xf2c48d, 0.85);
+    var B_OPACITY = 0.55;
+    var B = buildPart(G.moving, 0xf2a65a, B_OPACITY);
     function setMatrix(obj, m) {
       obj.matrix.set(m[0][0], m[0][1], m[0][2], m[0][3], m[1][0], m[1][1], m[1][2], m[1][3],
         m[2][0], m[2][1], m[2][2], m[2][3], m[3][0], m[3][1], m[3][2], m[3][3]);
@@ -265,11 +266,12 @@
     var cylinder = new THREE.CylinderGeometry(1, 1, 1, 12);
     function mark(part, id, colour) {
       var kind = id[0], index = Number(id.slice(1));
-      var material = new THREE.MeshLambertMaterial({ color: colour });
+      // Marks are drawn over everything, so a touching edge or vertex is never hidden.
+      var material = new THREE.MeshLambertMaterial({ color: colour, depthTest: false, transparent: true, opacity: 0.95 });
       var V = part.P.vertices;
       if (kind === 'f') {
         var mesh = part.faces[index];
-        if (mesh) { mesh.material.color.set(colour); mesh.material.opacity = 1; mesh.material.transparent = false; }
+        if (mesh) { mesh.material.color.set(colour); mesh.material.opacity = Math.max(mesh.material.opacity, 0.9); }
       } else if (kind === 'e') {
         var e = part.P.edges[index];
         if (!e) return;
@@ -279,12 +281,14 @@
         c.scale.set(r, a.distanceTo(b), r);
         c.position.copy(a).add(b).multiplyScalar(0.5);
         c.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), b.clone().sub(a).normalize());
+        c.renderOrder = 10;
         part.marks.add(c);
       } else if (kind === 'v') {
         if (!V[index]) return;
         var s = new THREE.Mesh(sphere, material);
         s.scale.setScalar(L * 0.018);
         s.position.fromArray(V[index]);
+        s.renderOrder = 11;
         part.marks.add(s);
       }
     }
@@ -292,7 +296,6 @@
       part.faces.forEach(function (m) {
         m.material.color.copy(part.colour);
         m.material.opacity = opacity;
-        m.material.transparent = opacity < 1;
       });
       while (part.marks.children.length) {
         var c = part.marks.children.pop();
@@ -331,7 +334,7 @@
     }
     view.show = function (s) {
       clearMarks(A, 1);
-      clearMarks(B, 0.85);
+      clearMarks(B, B_OPACITY);
       if (s.witness) {
         B.group.visible = true;
         setMatrix(B.group, s.witness.matrix);

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use super::{GraphFile, contact_text, witness_text};
 
 /// The graph in Graphviz DOT: an undirected graph with one node per state (id
-/// `s<id>`), laid out in ranks by number of contacts (free space on top), and one edge
+/// `s<id>`), laid out in ranks by [`layer`](super::layer), 6 − DOF (free space on top), and one edge
 /// per neighbour pair. Each node carries `label` (the id and its contacts, one per
 /// line), `contacts` (`; `-separated), `n_contacts`, `dof`, `degenerate` and `witness`
 /// (`x,y,z,rx,ry,rz` in radians, absent without one) as attributes; the graph carries
@@ -61,15 +61,15 @@ pub fn to_dot(graph: &GraphFile) -> String {
         }
         let _ = writeln!(out, "];");
     }
-    // Same rank for the same number of contacts: the picture reads from free space
-    // down to the most constrained states.
+    // Same rank for the same DOF: the picture reads from free space down to the most
+    // constrained states.
     let mut ranks: std::collections::BTreeMap<usize, Vec<usize>> = std::collections::BTreeMap::new();
     for state in &graph.states {
-        ranks.entry(state.contacts.len()).or_default().push(state.id);
+        ranks.entry(super::layer(state)).or_default().push(state.id);
     }
-    for (contacts, ids) in &ranks {
+    for (layer, ids) in &ranks {
         let nodes: Vec<String> = ids.iter().map(|id| format!("s{id}")).collect();
-        let _ = writeln!(out, "  {{ rank=same; /* {contacts} contacts */ {}; }}", nodes.join("; "));
+        let _ = writeln!(out, "  {{ rank=same; /* DOF {} */ {}; }}", 6 - layer, nodes.join("; "));
     }
     for [a, b] in &graph.edges {
         let _ = writeln!(out, "  s{a} -- s{b};");

@@ -269,8 +269,16 @@ pub fn witness_text(state: &StateRecord) -> Option<String> {
     })
 }
 
+/// A state's layer in drawings: how constrained it is, 6 − DOF (free space 0, a
+/// vertex on a face 1, an edge on a face 2, a face on a face 3, ...). Neighbours
+/// differ by one primitive contact, so edges mostly join consecutive layers.
+#[must_use]
+pub fn layer(state: &StateRecord) -> usize {
+    6usize.saturating_sub(usize::from(state.dof))
+}
+
 /// Node positions of a layered drawing, from free space (top) to the most constrained
-/// states (bottom): a state's layer is its number of contacts. Within a layer, states
+/// states (bottom): a state's layer is [`layer`]. Within a layer, states
 /// are ordered by the mean position of their neighbours in the layers above (then by
 /// id), and a layer wider than a row wraps onto several rows, so that thousands of
 /// states still make a compact picture. Deterministic; units are arbitrary (a node
@@ -282,7 +290,7 @@ pub fn layered_layout(graph: &GraphFile) -> Vec<[f64; 2]> {
     if n == 0 {
         return positions;
     }
-    let layer_of: Vec<usize> = graph.states.iter().map(|s| s.contacts.len()).collect();
+    let layer_of: Vec<usize> = graph.states.iter().map(layer).collect();
     let layers = layer_of.iter().copied().max().unwrap_or(0) + 1;
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); layers];
     for (id, &layer) in layer_of.iter().enumerate() {
@@ -294,7 +302,7 @@ pub fn layered_layout(graph: &GraphFile) -> Vec<[f64; 2]> {
         neighbours[b].push(a);
     }
     // Wrap layers wider than this onto several rows (about a square picture overall).
-    let row = ((n as f64).sqrt() * 1.5).ceil().max(24.0) as usize;
+    let row = ((n as f64).sqrt() * 1.5).ceil().max(12.0) as usize;
     let (dx, dy) = (1.6, 1.6);
     let mut x_of = vec![f64::NAN; n];
     let mut rows_above = 0usize;
