@@ -81,7 +81,7 @@ pub fn to_graphml(graph: &GraphFile) -> String {
         out.push_str("    </node>\n");
     }
     for (k, [a, b]) in graph.edges.iter().enumerate() {
-        let _ = writeln!(out, "    <edge id=\"n{k}\" source=\"s{a}\" target=\"s{b}\"/>");
+        let _ = writeln!(out, "    <edge id=\"edge{k}\" source=\"s{a}\" target=\"s{b}\"/>");
     }
     out.push_str("  </graph>\n</graphml>\n");
     out

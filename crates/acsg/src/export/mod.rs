@@ -88,12 +88,6 @@ pub struct GraphFile {
     pub stats: Stats,
 }
 
-/// Just the format key, read first so that another file gets the right message.
-#[derive(Deserialize)]
-struct FormatProbe {
-    format: Option<serde_json::Value>,
-}
-
 impl GraphFile {
     /// Reads and checks a graph file; errors name the file.
     ///
@@ -118,17 +112,15 @@ impl GraphFile {
         if text.trim().is_empty() {
             return Err(ExportError::Empty { path: path() });
         }
-        let probe: FormatProbe = match serde_json::from_str(text) {
-            Ok(probe) => probe,
-            Err(source) if source.is_data() => {
-                return Err(ExportError::NotGraph {
-                    path: path(),
-                    problem: format!("expected a JSON object with \"format\": \"{FORMAT}\""),
-                });
-            }
-            Err(source) => return Err(ExportError::NotJson { path: path(), source }),
+        let value: serde_json::Value =
+            serde_json::from_str(text).map_err(|source| ExportError::NotJson { path: path(), source })?;
+        let Some(object) = value.as_object() else {
+            return Err(ExportError::NotGraph {
+                path: path(),
+                problem: format!("expected a JSON object with \"format\": \"{FORMAT}\""),
+            });
         };
-        match probe.format {
+        match object.get("format") {
             Some(serde_json::Value::String(found)) if found == FORMAT => {}
             Some(found) => {
                 return Err(ExportError::NotGraph {
@@ -145,7 +137,7 @@ impl GraphFile {
                 });
             }
         }
-        let graph: GraphFile = serde_json::from_str(text).map_err(|e| ExportError::NotGraph {
+        let graph: GraphFile = serde_json::from_value(value).map_err(|e| ExportError::NotGraph {
             path: path(),
             problem: format!("{e} (see schema/graph.schema.json)"),
         })?;
