@@ -186,7 +186,10 @@ fn dot_of_the_example_goes_to_stdout_with_every_state_and_edge() {
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.starts_with("graph acsg {") && text.ends_with("}\n"));
-    let node_lines = text.lines().filter(|l| l.trim_start().starts_with('s') && l.contains(" [label=")).count();
+    let node_lines = text
+        .lines()
+        .filter(|l| l.trim_start().starts_with('s') && l.contains(" [label="))
+        .count();
     assert_eq!(node_lines, states);
     assert_eq!(text.matches(" -- ").count(), edges);
 }
@@ -202,11 +205,18 @@ fn bad_graph_files_fail_with_exit_1_naming_the_file() {
     let cases = [
         (write("empty.json", ""), "empty file"),
         (write("text.json", "hello"), "not JSON"),
-        (write("other.json", "{\"format\": \"acsg-graph/0\"}"), "this version of acsg reads \"acsg-graph/1\""),
+        (
+            write("other.json", "{\"format\": \"acsg-graph/0\"}"),
+            "this version of acsg reads \"acsg-graph/1\"",
+        ),
         (dir.path().join("missing.json"), "cannot read the graph"),
     ];
     for (path, reason) in &cases {
-        for args in [vec!["report"], vec!["export", "--format", "dot"], vec!["export", "--format", "graphml"]] {
+        for args in [
+            vec!["report"],
+            vec!["export", "--format", "dot"],
+            vec!["export", "--format", "graphml"],
+        ] {
             acsg()
                 .args(&args)
                 .arg(path)
@@ -292,7 +302,9 @@ fn html_unescape(text: &str) -> String {
 fn the_report_renders_in_a_real_browser() {
     let Some(browser) = chromium() else {
         if std::env::var_os("CI").is_some() {
-            panic!("CI is set but no Chromium was found: .ci/run installs Debian's chromium (apt-get install chromium)");
+            panic!(
+                "CI is set but no Chromium was found: .ci/run installs Debian's chromium (apt-get install chromium)"
+            );
         }
         eprintln!("skipped: no chromium on PATH (install it with `apt-get install chromium`, or set ACSG_CHROMIUM)");
         return;
@@ -318,7 +330,10 @@ fn the_report_renders_in_a_real_browser() {
     assert_eq!(check["states"], states);
     assert_eq!(check["nodes"], states, "one graph node per state");
     assert_eq!(check["edges"], edges, "one graph edge per neighbour pair");
-    assert!(check["graph_pixels"].as_u64().unwrap() > 1000, "the graph canvas stayed empty");
+    assert!(
+        check["graph_pixels"].as_u64().unwrap() > 1000,
+        "the graph canvas stayed empty"
+    );
     assert_eq!(check["webgl"], true, "no WebGL context");
     let [w, h] = [&check["canvas"][0], &check["canvas"][1]].map(|v| v.as_u64().unwrap());
     let drawn = check["drawn_pixels"].as_u64().unwrap();

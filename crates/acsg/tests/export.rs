@@ -118,7 +118,9 @@ fn the_report_embeds_the_graph_safely_and_completely() {
     assert_eq!(page.matches("</script>").count(), opened);
     assert_eq!(opened, 3 + html::VENDORED.len());
     // The data reads back as the graph itself.
-    let start = page.find("<script type=\"application/json\" id=\"acsg-data\">").unwrap();
+    let start = page
+        .find("<script type=\"application/json\" id=\"acsg-data\">")
+        .unwrap();
     let body = &page[start..];
     let body = &body[body.find('>').unwrap() + 1..body.find("</script>").unwrap()];
     let data: Value = serde_json::from_str(body).unwrap();
@@ -126,7 +128,11 @@ fn the_report_embeds_the_graph_safely_and_completely() {
     assert_eq!(back, graph);
     assert_eq!(data["layout"].as_array().unwrap().len(), 4);
     // The title is escaped too, and nothing is fetched from elsewhere.
-    assert!(page.contains("<title>acsg: parts/&quot;odd&quot; &lt;name&gt; &amp; &apos;quotes&apos;\\.off / &lt;/script&gt;"));
+    assert!(
+        page.contains(
+            "<title>acsg: parts/&quot;odd&quot; &lt;name&gt; &amp; &apos;quotes&apos;\\.off / &lt;/script&gt;"
+        )
+    );
     for remote in ["src=\"http", "href=\"http", "src=\"//", "@import", "<link "] {
         assert!(!page.contains(remote), "{remote}");
     }
@@ -160,7 +166,10 @@ fn layered_layout_puts_more_constrained_states_lower_and_wraps_wide_layers() {
     assert!(p.iter().flatten().all(|x| x.is_finite()));
     assert!(width < 3.0 * height, "width {width}, height {height}");
     // No two states share a position.
-    let mut seen: Vec<(i64, i64)> = p.iter().map(|q| ((q[0] * 100.0) as i64, (q[1] * 100.0) as i64)).collect();
+    let mut seen: Vec<(i64, i64)> = p
+        .iter()
+        .map(|q| ((q[0] * 100.0) as i64, (q[1] * 100.0) as i64))
+        .collect();
     seen.sort_unstable();
     seen.dedup();
     assert_eq!(seen.len(), 401);
@@ -181,7 +190,10 @@ fn bad_files_are_refused_with_the_reason_and_the_file_name() {
     assert!(error_of("ply\nformat ascii 1.0").contains("not JSON"));
     assert!(error_of("[1, 2]").contains("expected a JSON object with \"format\": \"acsg-graph/1\""));
     assert!(error_of("{\"states\": []}").contains("no \"format\" key"));
-    assert!(error_of("{\"format\": \"acsg-graph/2\"}").contains("format \"acsg-graph/2\", but this version of acsg reads \"acsg-graph/1\""));
+    assert!(
+        error_of("{\"format\": \"acsg-graph/2\"}")
+            .contains("format \"acsg-graph/2\", but this version of acsg reads \"acsg-graph/1\"")
+    );
     assert!(error_of("{\"format\": \"acsg-graph/1\"}").contains("missing field"));
 
     let broken = |edit: &dyn Fn(&mut Value)| {
@@ -197,9 +209,18 @@ fn bad_files_are_refused_with_the_reason_and_the_file_name() {
     );
     assert!(broken(&|v| v["states"][1]["contacts"][0]["fixed"] = json!("x3")).contains("bad element id \"x3\""));
     assert!(broken(&|v| v["states"][1]["contacts"][0]["type"] = json!("f-q")).contains("unknown variant"));
-    assert!(broken(&|v| v["fixed"]["faces"][0] = json!([[0, 2, 7]])).contains("fixed part: face f0 names a missing vertex"));
-    assert!(broken(&|v| v["moving"]["edges"][5] = json!([2, 4])).contains("moving part: edge e5 names a missing vertex"));
+    assert!(
+        broken(&|v| v["fixed"]["faces"][0] = json!([[0, 2, 7]])).contains("fixed part: face f0 names a missing vertex")
+    );
+    assert!(
+        broken(&|v| v["moving"]["edges"][5] = json!([2, 4])).contains("moving part: edge e5 names a missing vertex")
+    );
 
     let missing = GraphFile::from_path(std::path::Path::new("no/such/graph.json")).unwrap_err();
-    assert!(missing.to_string().starts_with("no/such/graph.json: cannot read the graph"), "{missing}");
+    assert!(
+        missing
+            .to_string()
+            .starts_with("no/such/graph.json: cannot read the graph"),
+        "{missing}"
+    );
 }

@@ -57,12 +57,11 @@ pub fn to_graphml(graph: &GraphFile) -> String {
         );
     }
     out.push_str("  <graph id=\"acsg\" edgedefault=\"undirected\">\n");
-    for (name, value) in GRAPH_KEYS.iter().zip([
-        &graph.format,
-        &graph.convention,
-        &graph.fixed.path,
-        &graph.moving.path,
-    ]) {
+    for (name, value) in
+        GRAPH_KEYS
+            .iter()
+            .zip([&graph.format, &graph.convention, &graph.fixed.path, &graph.moving.path])
+    {
         let _ = writeln!(out, "    <data key=\"{name}\">{}</data>", xml_escape(value));
     }
     for state in &graph.states {

@@ -59,7 +59,12 @@ pub fn to_html(graph: &GraphFile) -> String {
     let title = format!("acsg: {} / {}", graph.fixed.path, graph.moving.path);
     let vendor: String = VENDORED
         .iter()
-        .map(|(name, source)| format!("<script>/* {name} (see VENDORED.md) */\n{}\n</script>\n", script_safe(source)))
+        .map(|(name, source)| {
+            format!(
+                "<script>/* {name} (see VENDORED.md) */\n{}\n</script>\n",
+                script_safe(source)
+            )
+        })
         .collect();
     fill(
         TEMPLATE,
@@ -132,7 +137,10 @@ mod tests {
 
     #[test]
     fn scripts_with_a_closing_tag_are_escaped() {
-        assert_eq!(script_safe("a='</SCRIPT>';b='</script'"), "a='<\\/SCRIPT>';b='<\\/script'");
+        assert_eq!(
+            script_safe("a='</SCRIPT>';b='</script'"),
+            "a='<\\/SCRIPT>';b='<\\/script'"
+        );
         assert!(matches!(script_safe("plain"), std::borrow::Cow::Borrowed(_)));
     }
 

@@ -141,7 +141,9 @@ impl GraphFile {
             path: path(),
             problem: format!("{e} (see schema/graph.schema.json)"),
         })?;
-        graph.check().map_err(|problem| ExportError::Inconsistent { path: path(), problem })?;
+        graph
+            .check()
+            .map_err(|problem| ExportError::Inconsistent { path: path(), problem })?;
         Ok(graph)
     }
 
@@ -252,13 +254,10 @@ pub fn contacts_text(state: &StateRecord) -> String {
 /// --pose` reads; `None` without a witness.
 #[must_use]
 pub fn witness_text(state: &StateRecord) -> Option<String> {
-    state.witness.as_ref().map(|w| {
-        w.pose
-            .iter()
-            .map(|x| format!("{x}"))
-            .collect::<Vec<_>>()
-            .join(",")
-    })
+    state
+        .witness
+        .as_ref()
+        .map(|w| w.pose.iter().map(|x| format!("{x}")).collect::<Vec<_>>().join(","))
 }
 
 /// A state's layer in drawings: how constrained it is, 6 − DOF (free space 0, a
