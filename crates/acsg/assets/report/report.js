@@ -3,6 +3,7 @@
 (function () {
   'use strict';
 
+  var T0 = performance.now();
   var D = JSON.parse(document.getElementById('acsg-data').textContent);
   var G = D.graph;
   var states = G.states;
@@ -481,6 +482,7 @@
     });
   }
   if (first >= 0) select(first, false);
+  var setupMs = Math.round(performance.now() - T0);
 
   // ---------- self check (read by the browser test) ----------
   function selfCheck() {
@@ -505,6 +507,7 @@
       canvas: view.size,
       selected: selected,
       table_rows: tbody.children.length,
+      setup_ms: setupMs,
       errors: window.acsgErrors
     });
   }
