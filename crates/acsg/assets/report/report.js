@@ -237,7 +237,9 @@
         geometry.setIndex(flat);
         var material = new THREE.MeshLambertMaterial({
           color: colour, side: THREE.DoubleSide, transparent: opacity < 1, opacity: opacity, depthWrite: opacity >= 1,
-          polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1
+          // Touching faces are coplanar: the translucent moving part is pulled towards
+          // the viewer and the fixed part pushed away, so neither flickers through.
+          polygonOffset: true, polygonOffsetFactor: opacity < 1 ? -1 : 1, polygonOffsetUnits: opacity < 1 ? -2 : 2
         });
         var mesh = new THREE.Mesh(geometry, material);
         group.add(mesh);
@@ -317,13 +319,27 @@
     if (window.ResizeObserver) new ResizeObserver(resize).observe(box);
     window.addEventListener('resize', resize);
     var framed = false;
-    function frame() {
+    // The first view looks from the side the fixed part's touching faces face (their
+    // outward normals point at the moving part), so the contacts are in sight.
+    function firstDirection(s) {
+      var d = new THREE.Vector3(1.2, -1.9, 1.1).normalize();
+      var n = new THREE.Vector3(), count = 0;
+      s.contacts.forEach(function (c) {
+        if (c.fixed[0] === 'f' && G.fixed.face_normals[Number(c.fixed.slice(1))]) {
+          n.add(new THREE.Vector3().fromArray(G.fixed.face_normals[Number(c.fixed.slice(1))]));
+          count++;
+        }
+      });
+      if (count) d.addScaledVector(n.divideScalar(count), 1.5);
+      return d.lengthSq() > 1e-6 ? d.normalize() : new THREE.Vector3(1.2, -1.9, 1.1).normalize();
+    }
+    function frame(s) {
       scene.updateMatrixWorld(true);
       var bb = new THREE.Box3().setFromObject(A.group);
       if (B.group.visible) bb.union(new THREE.Box3().setFromObject(B.group));
       var centre = bb.getCenter(new THREE.Vector3());
       var radius = Math.max(bb.getSize(new THREE.Vector3()).length() / 2, 1e-9);
-      var direction = framed ? camera.position.clone().sub(controls.target).normalize() : new THREE.Vector3(1.2, -1.9, 1.1).normalize();
+      var direction = framed ? camera.position.clone().sub(controls.target).normalize() : firstDirection(s);
       var distance = radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 1.05;
       camera.position.copy(centre).addScaledVector(direction, distance);
       camera.near = distance / 1000;
@@ -348,7 +364,7 @@
         mark(A, c.fixed, pcColour(k));
         mark(B, c.moving, pcColour(k));
       });
-      frame();
+      frame(s);
       resize();
       render();
     };
