@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use acsg::contact::{ContactRecord, ContactReport, ContactScene};
+use acsg::export::GraphFile;
 use acsg::graph::{Document, Graph, Options, Progress, generate_with_progress};
 use acsg::model::{ElementId, Inspection, Part, PartElements};
 use acsg::pose::{Bounds, Pose};
@@ -92,6 +93,36 @@ enum Command {
         #[command(flatten)]
         run: RunFlags,
     },
+    /// Write a graph's HTML report: one self-contained file (no network needed) with
+    /// the run summary, the graph, each state's witness pose in 3D and a table of states.
+    Report {
+        /// The graph's JSON (written by generate, run or demo).
+        graph: PathBuf,
+        /// The HTML file to write (default: the graph's path with extension `.html`).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Convert a graph's JSON for other tools: Graphviz DOT, or GraphML (Gephi, yEd,
+    /// networkx); states carry their contacts, DOF and witness as attributes.
+    Export {
+        /// The graph's JSON (written by generate, run or demo).
+        graph: PathBuf,
+        /// The output format.
+        #[arg(long, value_enum)]
+        format: ExportFormat,
+        /// The file to write (atomically); default: stdout.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+}
+
+/// The formats of `acsg export`.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ExportFormat {
+    /// Graphviz DOT (`dot -Tsvg`).
+    Dot,
+    /// GraphML (Gephi, yEd, `networkx.read_graphml`).
+    Graphml,
 }
 
 /// Options shared by the commands that generate a graph.
@@ -102,6 +133,9 @@ struct RunFlags {
     /// `acsg-demo.graph.json` in the current folder.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Also write the graph's HTML report here (as `acsg report` does).
+    #[arg(long, value_name = "PATH")]
+    html: Option<PathBuf>,
     /// Keep states with a degenerate contact (v-v, e-v, v-e, e-e-t between convex
     /// elements).
     #[arg(long)]
@@ -234,6 +268,28 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let output = Some(PathBuf::from("acsg-demo.graph.json"));
             generate_and_write(parts, names, bounds, Options::default(), run, output)
         }
+        Command::Report { graph, output } => {
+            let file = GraphFile::from_path(&graph)?;
+            let output = output.unwrap_or_else(|| graph.with_extension("html"));
+            let page = acsg::export::html::to_html(&file);
+            acsg::io::write_atomic(&output, page.as_bytes())
+                .with_context(|| format!("writing the report {}", output.display()))?;
+            println!("wrote {}", output.display());
+            Ok(())
+        }
+        Command::Export { graph, format, output } => {
+            let file = GraphFile::from_path(&graph)?;
+            let text = match format {
+                ExportFormat::Dot => acsg::export::dot::to_dot(&file),
+                ExportFormat::Graphml => acsg::export::graphml::to_graphml(&file),
+            };
+            match output {
+                Some(path) => acsg::io::write_atomic(&path, text.as_bytes())
+                    .with_context(|| format!("writing {}", path.display()))?,
+                None => std::io::stdout().lock().write_all(text.as_bytes())?,
+            }
+            Ok(())
+        }
     }
 }
 
@@ -295,6 +351,19 @@ fn generate_and_write(
             }
         }
         None => std::io::stdout().lock().write_all(json.as_bytes())?,
+    }
+    if let Some(path) = flags.html {
+        let page = acsg::export::html::to_html(&GraphFile::from_document(&document));
+        acsg::io::write_atomic(&path, page.as_bytes())
+            .with_context(|| format!("writing the report {}", path.display()))?;
+        if !flags.quiet {
+            // Keep stdout for the JSON when it goes there.
+            if to_stdout {
+                eprintln!("wrote {}", path.display());
+            } else {
+                println!("wrote {}", path.display());
+            }
+        }
     }
     Ok(())
 }

@@ -17,6 +17,7 @@
 pub mod contact;
 pub mod convex;
 pub mod examples;
+pub mod export;
 pub mod feasibility;
 pub mod graph;
 pub mod io;

@@ -27,7 +27,7 @@ mod touch;
 use std::fmt;
 
 use glam::DAffine3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 pub use bvh::{Bounds3, Bvh};
 use placed::PlacedPart;
@@ -36,7 +36,7 @@ use crate::model::{ElementId, Part};
 use crate::tolerance::{GAP_SEARCH_REL, scaled};
 
 /// The ten kinds of principal contact, the fixed part's element first.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum ContactKind {
     /// Face on face.
     #[serde(rename = "f-f")]
@@ -313,7 +313,7 @@ impl<'a> ContactScene<'a> {
 }
 
 /// One contact as written in JSON outputs.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactRecord {
     /// The kind: `f-v`, `e-e-t`, ...
     #[serde(rename = "type")]

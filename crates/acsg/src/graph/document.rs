@@ -1,6 +1,6 @@
 //! The graph as written to JSON (documented by `schema/graph.schema.json`).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{Graph, Options, Stats};
 use crate::contact::ContactRecord;
@@ -47,7 +47,7 @@ pub struct Units {
 }
 
 /// Bounds as written.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BoundsRecord {
     /// Lower ends, in the order x, y, z, rx, ry, rz.
     pub min: [f64; 6],
@@ -56,14 +56,14 @@ pub struct BoundsRecord {
 }
 
 /// Options as written.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OptionsRecord {
     /// Whether degenerate states were kept.
     pub degenerate: bool,
 }
 
 /// One state as written.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StateRecord {
     /// Index in `states`.
     pub id: usize,
@@ -78,7 +78,7 @@ pub struct StateRecord {
 }
 
 /// A witness pose as written.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WitnessRecord {
     /// x, y, z, rx, ry, rz (radians).
     pub pose: [f64; 6],

@@ -25,7 +25,7 @@ use std::time::Instant;
 
 use glam::DAffine3;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::contact::PrincipalContact;
 use crate::feasibility::{Problem, Search, SearchStats, is_primitive, primitive_contacts};
@@ -74,7 +74,7 @@ pub struct State {
 }
 
 /// Counts and times of a run.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Stats {
     /// card(PPC): every primitive principal contact.
     pub ppc: usize,

@@ -1,11 +1,11 @@
 //! A part's elements with geometry, as written in JSON outputs: ids index these arrays.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::{ElementId, Part};
 
 /// A part's vertices, edges and faces, in the part's own frame.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PartElements {
     /// The part's name (its path, as given).
     pub path: String,
@@ -52,5 +52,12 @@ impl PartElements {
 impl Serialize for ElementId {
     fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         serializer.collect_str(self)
+    }
+}
+
+impl<'de> Deserialize<'de> for ElementId {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let text = std::borrow::Cow::<'de, str>::deserialize(deserializer)?;
+        text.parse().map_err(serde::de::Error::custom)
     }
 }

@@ -62,9 +62,45 @@ impl fmt::Display for ElementId {
     }
 }
 
+impl std::str::FromStr for ElementId {
+    type Err = String;
+
+    /// Parses `f3`, `e5` or `v7`.
+    fn from_str(text: &str) -> Result<ElementId, String> {
+        let bad = || format!("bad element id {text:?} (expected f, e or v followed by a number, e.g. f3)");
+        let mut chars = text.chars();
+        let kind = chars.next().ok_or_else(bad)?;
+        let digits = chars.as_str();
+        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return Err(bad());
+        }
+        let index: u32 = digits.parse().map_err(|_| bad())?;
+        match kind {
+            'f' => Ok(ElementId::Face(FaceId(index))),
+            'e' => Ok(ElementId::Edge(EdgeId(index))),
+            'v' => Ok(ElementId::Vertex(VertexId(index))),
+            _ => Err(bad()),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ids_parse_back_from_their_display() {
+        for id in [
+            ElementId::Face(FaceId(3)),
+            ElementId::Edge(EdgeId(0)),
+            ElementId::Vertex(VertexId(4_000_000)),
+        ] {
+            assert_eq!(id.to_string().parse::<ElementId>(), Ok(id));
+        }
+        for bad in ["", "f", "x3", "f-1", "f 3", "F3", "f3a", "f99999999999"] {
+            assert!(bad.parse::<ElementId>().is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn ids_display_with_their_kind_prefix() {

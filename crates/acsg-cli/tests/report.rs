@@ -1,0 +1,358 @@
+//! `acsg report`, `acsg export` and `--html` on the built-in example: the report is
+//! loaded in a real headless Chromium (the graph and the 3D view must render, without
+//! console errors) and screenshotted; the GraphML is parsed independently.
+//!
+//! Outside CI the browser test is skipped, with a message, when no Chromium is
+//! installed; with `CI` set it fails instead (`.ci/run` installs Debian's chromium).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command as Process, Stdio};
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+use assert_cmd::Command;
+use predicates::str::contains;
+use serde_json::Value;
+
+fn acsg() -> Command {
+    Command::cargo_bin("acsg").expect("binary built")
+}
+
+/// The built-in example, generated once for all tests: (folder, graph JSON).
+fn demo() -> &'static (tempfile::TempDir, Value) {
+    static DEMO: OnceLock<(tempfile::TempDir, Value)> = OnceLock::new();
+    DEMO.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        acsg()
+            .current_dir(dir.path())
+            .args(["demo", "-o", "demo.json", "--html", "demo.html", "--no-timings"])
+            .assert()
+            .success()
+            .stdout(contains("wrote demo.json").and(contains("wrote demo.html")));
+        let text = std::fs::read_to_string(dir.path().join("demo.json")).unwrap();
+        let json: Value = serde_json::from_str(&text).unwrap();
+        (dir, json)
+    })
+}
+
+use predicates::prelude::PredicateBooleanExt;
+
+fn counts(json: &Value) -> (usize, usize) {
+    (
+        json["states"].as_array().unwrap().len(),
+        json["edges"].as_array().unwrap().len(),
+    )
+}
+
+#[test]
+fn report_command_matches_the_html_flag_and_is_self_contained() {
+    let (dir, json) = demo();
+    acsg()
+        .current_dir(dir.path())
+        .args(["report", "demo.json"])
+        .assert()
+        .success()
+        .stdout(contains("wrote demo.html"));
+    acsg()
+        .current_dir(dir.path())
+        .args(["report", "demo.json", "-o", "again.html"])
+        .assert()
+        .success();
+    let page = std::fs::read_to_string(dir.path().join("demo.html")).unwrap();
+    assert_eq!(page, std::fs::read_to_string(dir.path().join("again.html")).unwrap());
+    assert!(page.contains(&format!("\"states\":{}", counts(json).0)));
+    for remote in ["src=\"http", "href=\"http", "src=\"//", "<link "] {
+        assert!(!page.contains(remote), "the report loads {remote}...");
+    }
+    eprintln!("report of the built-in example: {} bytes", page.len());
+}
+
+/// A minimal XML reader, enough to check GraphML independently of the writer: the
+/// document is well formed (every element closed in order), and gives the elements'
+/// names with their attributes in document order.
+fn xml_elements(text: &str) -> Vec<(String, Vec<(String, String)>)> {
+    let mut out = Vec::new();
+    let mut open: Vec<String> = Vec::new();
+    let mut rest = text;
+    while let Some(start) = rest.find('<') {
+        let end = rest[start..].find('>').expect("unclosed tag") + start;
+        let tag = &rest[start + 1..end];
+        rest = &rest[end + 1..];
+        if tag.starts_with('?') || tag.starts_with('!') {
+            continue;
+        }
+        if let Some(name) = tag.strip_prefix('/') {
+            assert_eq!(open.pop().as_deref(), Some(name.trim()), "mismatched </{name}>");
+            continue;
+        }
+        let self_closing = tag.ends_with('/');
+        let tag = tag.trim_end_matches('/');
+        let (name, mut attrs_text) = tag.split_once(char::is_whitespace).unwrap_or((tag, ""));
+        let mut attrs = Vec::new();
+        loop {
+            attrs_text = attrs_text.trim_start();
+            if attrs_text.is_empty() {
+                break;
+            }
+            let (key, after) = attrs_text.split_once("=\"").expect("attribute without a quoted value");
+            let (value, after) = after.split_once('"').expect("unterminated attribute");
+            assert!(!value.contains('<'), "raw < in an attribute");
+            attrs.push((key.trim().to_string(), value.to_string()));
+            attrs_text = after;
+        }
+        out.push((name.to_string(), attrs));
+        if !self_closing {
+            open.push(name.to_string());
+        }
+    }
+    assert!(open.is_empty(), "unclosed elements {open:?}");
+    out
+}
+
+#[test]
+fn graphml_of_the_example_has_every_state_and_edge() {
+    let (dir, json) = demo();
+    let (states, edges) = counts(json);
+    acsg()
+        .current_dir(dir.path())
+        .args(["export", "demo.json", "--format", "graphml", "-o", "demo.graphml"])
+        .assert()
+        .success()
+        .stdout("");
+    let path = dir.path().join("demo.graphml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let elements = xml_elements(&text);
+    let attr = |attrs: &[(String, String)], key: &str| {
+        attrs
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.clone())
+            .unwrap_or_default()
+    };
+    let nodes: Vec<String> = elements
+        .iter()
+        .filter(|(n, _)| n == "node")
+        .map(|(_, a)| attr(a, "id"))
+        .collect();
+    let links: Vec<(String, String)> = elements
+        .iter()
+        .filter(|(n, _)| n == "edge")
+        .map(|(_, a)| (attr(a, "source"), attr(a, "target")))
+        .collect();
+    assert_eq!((nodes.len(), links.len()), (states, edges));
+    let mut unique = nodes.clone();
+    unique.sort();
+    unique.dedup();
+    assert_eq!(unique.len(), states, "node ids are unique");
+    assert!(links.iter().all(|(a, b)| nodes.contains(a) && nodes.contains(b)));
+    for (k, pair) in json["edges"].as_array().unwrap().iter().enumerate() {
+        assert_eq!(links[k], (format!("s{}", pair[0]), format!("s{}", pair[1])));
+    }
+
+    // networkx, when this Python has it.
+    let has_networkx = Process::new("python3")
+        .args(["-c", "import networkx"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if has_networkx {
+        let out = Process::new("python3")
+            .args([
+                "-c",
+                "import sys, networkx as nx; g = nx.read_graphml(sys.argv[1]); \
+                 print(g.number_of_nodes(), g.number_of_edges(), nx.is_connected(g))",
+            ])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout).trim(),
+            format!("{states} {edges} True")
+        );
+    } else {
+        eprintln!("networkx check skipped: python3 with networkx not available");
+    }
+}
+
+#[test]
+fn dot_of_the_example_goes_to_stdout_with_every_state_and_edge() {
+    let (dir, json) = demo();
+    let (states, edges) = counts(json);
+    let out = acsg()
+        .current_dir(dir.path())
+        .args(["export", "demo.json", "--format", "dot"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("graph acsg {") && text.ends_with("}\n"));
+    let node_lines = text
+        .lines()
+        .filter(|l| l.trim_start().starts_with('s') && l.contains(" [label="))
+        .count();
+    assert_eq!(node_lines, states);
+    assert_eq!(text.matches(" -- ").count(), edges);
+}
+
+#[test]
+fn bad_graph_files_fail_with_exit_1_naming_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let cases = [
+        (write("empty.json", ""), "empty file"),
+        (write("text.json", "hello"), "not JSON"),
+        (
+            write("other.json", "{\"format\": \"acsg-graph/0\"}"),
+            "this version of acsg reads \"acsg-graph/1\"",
+        ),
+        (dir.path().join("missing.json"), "cannot read the graph"),
+    ];
+    for (path, reason) in &cases {
+        for args in [
+            vec!["report"],
+            vec!["export", "--format", "dot"],
+            vec!["export", "--format", "graphml"],
+        ] {
+            acsg()
+                .args(&args)
+                .arg(path)
+                .args(["-o"])
+                .arg(dir.path().join("out"))
+                .assert()
+                .code(1)
+                .stderr(contains(path.display().to_string()).and(contains(*reason)));
+        }
+    }
+    assert!(!dir.path().join("out").exists(), "nothing written on failure");
+    acsg().args(["export", "x.json", "--format", "svg"]).assert().code(2);
+    acsg().args(["report"]).assert().code(2);
+}
+
+// ---------------------------------------------------------------- the browser test
+
+fn chromium() -> Option<PathBuf> {
+    if let Some(path) = std::env::var_os("ACSG_CHROMIUM") {
+        return Some(PathBuf::from(path));
+    }
+    let path = std::env::var_os("PATH")?;
+    ["chromium", "chromium-browser", "google-chrome", "google-chrome-stable"]
+        .iter()
+        .flat_map(|name| std::env::split_paths(&path).map(move |dir| dir.join(name)))
+        .find(|candidate| candidate.is_file())
+}
+
+/// Runs Chromium headless on `page` with `extra` flags, stdout to `stdout_file`,
+/// killing it after two minutes.
+fn run_chromium(browser: &Path, page: &Path, extra: &[String], stdout_file: &Path) -> std::process::ExitStatus {
+    let profile = tempfile::tempdir().unwrap();
+    let mut child = Process::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--disable-extensions",
+            "--hide-scrollbars",
+            // WebGL in software (SwiftShader), as on a machine without a GPU.
+            "--use-gl=angle",
+            "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader",
+            "--virtual-time-budget=10000",
+            "--window-size=1400,900",
+        ])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .args(extra)
+        .arg(format!("file://{}", page.display()))
+        .stdin(Stdio::null())
+        .stdout(std::fs::File::create(stdout_file).unwrap())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {}: {e}", browser.display()));
+    let deadline = Instant::now() + Duration::from_secs(120);
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{} did not finish within two minutes", browser.display());
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+fn html_unescape(text: &str) -> String {
+    text.replace("&quot;", "\"")
+        .replace("&lt;", "<")
+        .replace("&gt;", ">")
+        .replace("&nbsp;", "\u{a0}")
+        .replace("&amp;", "&")
+}
+
+#[test]
+fn the_report_renders_in_a_real_browser() {
+    let Some(browser) = chromium() else {
+        if std::env::var_os("CI").is_some() {
+            panic!(
+                "CI is set but no Chromium was found: .ci/run installs Debian's chromium (apt-get install chromium)"
+            );
+        }
+        eprintln!("skipped: no chromium on PATH (install it with `apt-get install chromium`, or set ACSG_CHROMIUM)");
+        return;
+    };
+    let (dir, json) = demo();
+    let (states, edges) = counts(json);
+    let page = dir.path().join("demo.html");
+
+    // 1. The page's own self check, read from the DOM after the page settled.
+    let dom_file = dir.path().join("dom.html");
+    let status = run_chromium(&browser, &page, &["--dump-dom".to_string()], &dom_file);
+    assert!(status.success(), "chromium --dump-dom failed: {status}");
+    let dom = std::fs::read_to_string(&dom_file).unwrap();
+    let start = dom
+        .find("<pre id=\"acsg-selftest\"")
+        .unwrap_or_else(|| panic!("no self-check element in the DOM ({} bytes)", dom.len()));
+    let body = &dom[start..];
+    let body = &body[body.find('>').unwrap() + 1..body.find("</pre>").unwrap()];
+    assert!(!body.is_empty(), "the page's script did not finish (empty self check)");
+    let check: Value = serde_json::from_str(&html_unescape(body)).unwrap();
+    eprintln!("browser self check: {check}");
+    assert_eq!(check["errors"], serde_json::json!([]), "errors in the page");
+    assert_eq!(check["states"], states);
+    assert_eq!(check["nodes"], states, "one graph node per state");
+    assert_eq!(check["edges"], edges, "one graph edge per neighbour pair");
+    assert!(
+        check["graph_pixels"].as_u64().unwrap() > 1000,
+        "the graph canvas stayed empty"
+    );
+    assert_eq!(check["webgl"], true, "no WebGL context");
+    let [w, h] = [&check["canvas"][0], &check["canvas"][1]].map(|v| v.as_u64().unwrap());
+    let drawn = check["drawn_pixels"].as_u64().unwrap();
+    assert!(w > 100 && h > 100, "3D canvas {w}x{h}");
+    assert!(drawn * 20 > w * h, "the 3D view drew only {drawn} of {w}x{h} pixels");
+    assert_eq!(check["table_rows"], states);
+
+    // 2. A screenshot, kept under target/ for people to look at.
+    let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("acsg-report-screenshot.png");
+    let _ = std::fs::remove_file(&shot);
+    let status = run_chromium(
+        &browser,
+        &page,
+        &[format!("--screenshot={}", shot.display())],
+        &dir.path().join("screenshot.log"),
+    );
+    assert!(status.success(), "chromium --screenshot failed: {status}");
+    let png = std::fs::read(&shot).expect("a screenshot was written");
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
+    assert!(png.len() > 20_000, "screenshot of {} bytes: a blank page?", png.len());
+    eprintln!("screenshot: {}", shot.display());
+}
