@@ -7,10 +7,7 @@
 
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
-
-use crate::graph::Stats;
-use crate::graph::document::{BoundsRecord, Document, FORMAT, OptionsRecord, StateRecord};
+use crate::graph::document::{Document, FORMAT, StateRecord};
 use crate::model::{ElementId, PartElements};
 
 pub mod dot;
@@ -64,29 +61,7 @@ pub enum ExportError {
 /// A graph as read from its JSON (format [`FORMAT`], `schema/graph.schema.json`),
 /// checked for consistency: state ids are their indices, edges join existing states,
 /// and every element named by a contact, edge or face exists.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GraphFile {
-    /// Always [`FORMAT`].
-    pub format: String,
-    /// The pose convention.
-    pub convention: String,
-    /// The fixed part A.
-    pub fixed: PartElements,
-    /// The moving part B.
-    pub moving: PartElements,
-    /// G, row-major 4x4.
-    pub assembled: [[f64; 4]; 4],
-    /// The misalignment bounds, radians for angles.
-    pub bounds: BoundsRecord,
-    /// The options of the run.
-    pub options: OptionsRecord,
-    /// The states; `states[0]` is free space.
-    pub states: Vec<StateRecord>,
-    /// Neighbour pairs of state ids.
-    pub edges: Vec<[usize; 2]>,
-    /// Counts and times.
-    pub stats: Stats,
-}
+pub type GraphFile = Document;
 
 impl GraphFile {
     /// Reads and checks a graph file; errors name the file.
@@ -150,10 +125,7 @@ impl GraphFile {
     /// The graph of a document just generated (no file involved).
     #[must_use]
     pub fn from_document(document: &Document) -> GraphFile {
-        // A document is plain numbers, strings and arrays written by this crate, in the
-        // very types read here: the round trip cannot fail.
-        let value = serde_json::to_value(document).expect("a document serialises");
-        serde_json::from_value(value).expect("a document reads back")
+        document.clone()
     }
 
     /// The first inconsistency, if any.

@@ -83,6 +83,9 @@ pub(crate) struct Prover<'a> {
     to_g: DAffine3,
     /// Tolerance on every constraint (a small multiple of the contact tolerance).
     slack: f64,
+    /// The farthest vertex from the origin (in its frame): how far a unit turn moves a
+    /// point, to weigh rotations against translations when splitting boxes.
+    reach: f64,
     /// How far inside its elements a point contact must be: a witness is clean only if
     /// every pair that does not touch is at least the separation tolerance apart, so the
     /// point keeps that far from the elements' boundaries (half of it, to be safe).
@@ -92,11 +95,19 @@ pub(crate) struct Prover<'a> {
 impl<'a> Prover<'a> {
     pub fn new(fixed: &'a Part, moving: &'a Part, assembled: &DAffine3, scale: f64) -> Prover<'a> {
         let to_g = assembled.inverse();
+        let (a, b) = (Shape::new(fixed, &to_g), Shape::new(moving, &DAffine3::IDENTITY));
+        let reach = a
+            .vertices
+            .iter()
+            .chain(&b.vertices)
+            .map(|p| p.length())
+            .fold(1.0, f64::max);
         Prover {
             fixed,
             moving,
-            a: Shape::new(fixed, &to_g),
-            b: Shape::new(moving, &DAffine3::IDENTITY),
+            a,
+            b,
+            reach,
             to_g,
             slack: scaled(10.0 * CONTACT_REL, scale),
             margin: scaled(0.5 * SEPARATION_REL, scale),
@@ -196,89 +207,57 @@ impl<'a> Prover<'a> {
     /// boxes), they bound the same point: intersect them without the pose, which the
     /// per-box contraction cannot do (it encloses `R w` anew in each).
     fn tighten_points(&self, links: &mut [Link]) -> Option<()> {
-        let s = self.slack;
-        let box_of = |(lo, hi): (DVec3, DVec3)| -> IVec { std::array::from_fn(|k| Interval::new(lo[k], hi[k])) };
-        let unbox = |b: IVec| {
-            (
-                DVec3::new(b[0].lo, b[1].lo, b[2].lo),
-                DVec3::new(b[0].hi, b[1].hi, b[2].hi),
-            )
+        self.tighten_side(links, true)?;
+        self.tighten_side(links, false)
+    }
+
+    /// [`Prover::tighten_points`] for the moving part's vertices (`p = R w + t`, in G's
+    /// frame) or the fixed part's (`q = Rᵀ (a − t)`, in the moving part's frame).
+    fn tighten_side(&self, links: &mut [Link], moving: bool) -> Option<()> {
+        // A point on a plane of the other part: (point, normal, offset).
+        let on_plane = |link: &Link| match (*link, moving) {
+            (Link::MovingPointOnFixedPlane { w, n, d }, true) => Some((w, n, d)),
+            (Link::FixedPointOnMovingPlane { a, m, e }, false) => Some((a, m, e)),
+            _ => None,
         };
-        let everywhere = [Interval::new(-FAR, FAR); 3];
-        // Moving vertices: p = R w + t, in G's frame.
-        let moving_points: Vec<DVec3> = links
-            .iter()
-            .filter_map(|l| match *l {
-                Link::MovingPointOnFixedPlane { w, .. } => Some(w),
-                _ => None,
-            })
-            .collect();
-        for w in moving_points {
-            let mut p = everywhere;
-            for link in links.iter() {
-                match *link {
-                    Link::Region { a, b } if b.0 == w && b.1 == w => {
-                        let r = box_of(a);
-                        for k in 0..3 {
-                            p[k] = p[k].meet(r[k]);
-                        }
+        // A region whose box on this side is the single point `at`: the other side's box.
+        let mut points: Vec<DVec3> = Vec::new();
+        for (w, _, _) in links.iter().filter_map(on_plane) {
+            if !points.contains(&w) {
+                points.push(w);
+            }
+        }
+        for at in points {
+            let mut p = [Interval::new(-FAR, FAR); 3];
+            for link in links.iter_mut() {
+                if let Some((w, n, d)) = on_plane(link) {
+                    if w == at {
+                        let range = Interval::point(d).widen(self.slack);
+                        narrow(
+                            Linear {
+                                coeffs: point(n),
+                                range,
+                            },
+                            &mut p,
+                        )?;
                     }
-                    Link::MovingPointOnFixedPlane { w: w2, n, d } if w2 == w => narrow(
-                        Linear {
-                            coeffs: point(n),
-                            range: Interval::point(d).widen(s),
-                        },
-                        &mut p,
-                    )?,
-                    _ => {}
+                } else if let Some(&mut (lo, hi)) = region_other(link, at, moving) {
+                    for k in 0..3 {
+                        p[k] = p[k].meet(Interval::new(lo[k], hi[k]));
+                    }
                 }
             }
             if p.iter().any(|i| i.is_empty()) {
                 return None;
             }
-            for link in links.iter_mut() {
-                if let Link::Region { a, b } = link {
-                    if b.0 == w && b.1 == w && p.iter().all(|i| i.width() < FAR) {
-                        *a = unbox(p);
-                    }
-                }
-            }
-        }
-        // Fixed vertices: q = Rᵀ (a − t), in the moving part's frame.
-        let fixed_points: Vec<DVec3> = links
-            .iter()
-            .filter_map(|l| match *l {
-                Link::FixedPointOnMovingPlane { a, .. } => Some(a),
-                _ => None,
-            })
-            .collect();
-        for a in fixed_points {
-            let mut q = everywhere;
-            for link in links.iter() {
-                match *link {
-                    Link::Region { a: ra, b } if ra.0 == a && ra.1 == a => {
-                        let r = box_of(b);
-                        for k in 0..3 {
-                            q[k] = q[k].meet(r[k]);
-                        }
-                    }
-                    Link::FixedPointOnMovingPlane { a: a2, m, e } if a2 == a => narrow(
-                        Linear {
-                            coeffs: point(m),
-                            range: Interval::point(e).widen(s),
-                        },
-                        &mut q,
-                    )?,
-                    _ => {}
-                }
-            }
-            if q.iter().any(|i| i.is_empty()) {
-                return None;
-            }
-            for link in links.iter_mut() {
-                if let Link::Region { a: ra, b } = link {
-                    if ra.0 == a && ra.1 == a && q.iter().all(|i| i.width() < FAR) {
-                        *b = unbox(q);
+            if p.iter().all(|i| i.width() < FAR) {
+                let tightened = (
+                    DVec3::new(p[0].lo, p[1].lo, p[2].lo),
+                    DVec3::new(p[0].hi, p[1].hi, p[2].hi),
+                );
+                for link in links.iter_mut() {
+                    if let Some(other) = region_other(link, at, moving) {
+                        *other = tightened;
                     }
                 }
             }
@@ -319,14 +298,7 @@ impl<'a> Prover<'a> {
             let (lo, hi) = (narrowed.min.to_array(), narrowed.max.to_array());
             // Rotations first: their width, as an arc at the parts' size, against the
             // translations'.
-            let scale = self
-                .a
-                .vertices
-                .iter()
-                .chain(&self.b.vertices)
-                .map(|p| p.length())
-                .fold(1.0, f64::max);
-            let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { 2.0 * scale };
+            let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { 2.0 * self.reach };
             let k = (0..6).max_by(|&i, &j| weight(i).total_cmp(&weight(j))).unwrap_or(0);
             if weight(k) <= self.slack {
                 return false;
@@ -354,47 +326,27 @@ impl<'a> Prover<'a> {
             Interval::new(bounds.min.z, bounds.max.z),
         ];
         let s = self.slack;
+        // Everything that depends on the rotation only, once per box.
+        let constraints: Vec<Linear> = links.iter().flat_map(|link| self.linear(link, &r)).collect();
         let moved: Vec<IVec> = self.b.vertices.iter().map(|&w| mat_vec(&r, w)).collect();
+        let turned_pieces: Vec<Vec<(IVec, f64)>> = self
+            .b
+            .pieces
+            .iter()
+            .map(|piece| piece.iter().map(|&(m, e)| (mat_vec(&r, m), e)).collect())
+            .collect();
         for _round in 0..6 {
             let before = t;
-            for link in links {
-                match *link {
-                    Link::MovingPointOnFixedPlane { w, n, d } => {
-                        let coeffs = point(n);
-                        let range = Interval::point(d).sub(dot(coeffs, mat_vec(&r, w))).widen(s);
-                        narrow(Linear { coeffs, range }, &mut t)?;
-                    }
-                    Link::FixedPointOnMovingPlane { a, m, e } => {
-                        let u = mat_vec(&r, m);
-                        let range = dot(u, point(a)).sub(Interval::point(e)).widen(s);
-                        narrow(Linear { coeffs: u, range }, &mut t)?;
-                    }
-                    Link::Crossing { a0, da, b0, db } => {
-                        let n = cross(point(da), mat_vec(&r, db));
-                        let c = sub(point(a0), mat_vec(&r, b0));
-                        let range = dot(n, c).widen(s);
-                        narrow(Linear { coeffs: n, range }, &mut t)?;
-                    }
-                    Link::Region { a, b } => {
-                        let rb = mat_box(&r, b);
-                        for k in 0..3 {
-                            let allowed = Interval::new(a.0[k], a.1[k]).sub(rb[k]).widen(s);
-                            t[k] = t[k].meet(allowed);
-                            if t[k].is_empty() {
-                                return None;
-                            }
-                        }
-                    }
-                }
+            for &c in &constraints {
+                narrow(c, &mut t)?;
             }
             // No vertex of the moving part strictly inside a convex piece of the fixed.
             for w in &moved {
                 for piece in &self.a.pieces {
                     let p = add(*w, t);
-                    self.outside_some(
-                        piece,
-                        |(n, d)| {
-                            let coeffs = point(n);
+                    outside_some(
+                        piece.iter().map(|&(n, d)| (point(n), d)),
+                        |(coeffs, d)| {
                             // n · (R w + t) ≥ d − s
                             let value = dot(coeffs, p);
                             let bound = Linear {
@@ -409,12 +361,11 @@ impl<'a> Prover<'a> {
             }
             // No vertex of the fixed part strictly inside a convex piece of the moving.
             for &a in &self.a.vertices {
-                for piece in &self.b.pieces {
+                for piece in &turned_pieces {
                     let q = sub(point(a), t);
-                    self.outside_some(
-                        piece,
-                        |(m, e)| {
-                            let u = mat_vec(&r, m);
+                    outside_some(
+                        piece.iter().copied(),
+                        |(u, e)| {
                             // (R m) · (a − t) ≥ e − s  ⇔  u · t ≤ u · a − e + s
                             let value = dot(u, q);
                             let bound = Linear {
@@ -440,29 +391,74 @@ impl<'a> Prover<'a> {
         Bounds::try_new(lo, hi).ok()
     }
 
-    /// A point must be on the outer side (`value ≥ limit`) of at least one plane of a
-    /// piece: when it is certainly inside all but one, that one's bound narrows `t`;
-    /// inside all, the box is empty.
-    fn outside_some(
-        &self,
-        piece: &[(DVec3, f64)],
-        test: impl Fn((DVec3, f64)) -> (Interval, f64, Linear),
-        t: &mut IVec,
-    ) -> Option<()> {
-        let mut candidate = None;
-        for &plane in piece {
-            let (value, limit, bound) = test(plane);
-            if value.hi >= limit {
-                if candidate.is_some() {
-                    return Some(()); // two planes may still hold it out
-                }
-                candidate = Some(bound);
+    /// The linear constraints on `t` of one contact link, with R enclosed by `r`.
+    fn linear(&self, link: &Link, r: &IntervalMat) -> Vec<Linear> {
+        let s = self.slack;
+        match *link {
+            Link::MovingPointOnFixedPlane { w, n, d } => {
+                let coeffs = point(n);
+                let range = Interval::point(d).sub(dot(coeffs, mat_vec(r, w))).widen(s);
+                vec![Linear { coeffs, range }]
+            }
+            Link::FixedPointOnMovingPlane { a, m, e } => {
+                let u = mat_vec(r, m);
+                let range = dot(u, point(a)).sub(Interval::point(e)).widen(s);
+                vec![Linear { coeffs: u, range }]
+            }
+            Link::Crossing { a0, da, b0, db } => {
+                let n = cross(point(da), mat_vec(r, db));
+                let c = sub(point(a0), mat_vec(r, b0));
+                vec![Linear {
+                    coeffs: n,
+                    range: dot(n, c).widen(s),
+                }]
+            }
+            Link::Region { a, b } => {
+                let rb = mat_box(r, b);
+                (0..3)
+                    .map(|k| Linear {
+                        coeffs: point(DVec3::AXES[k]),
+                        range: Interval::new(a.0[k], a.1[k]).sub(rb[k]).widen(s),
+                    })
+                    .collect()
             }
         }
-        match candidate {
-            None => None,
-            Some(bound) => narrow(bound, t),
+    }
+}
+
+/// The other side's box of a region link whose box on this side (the moving part's
+/// when `moving`) is the single point `at`.
+fn region_other(link: &mut Link, at: DVec3, moving: bool) -> Option<&mut (DVec3, DVec3)> {
+    match link {
+        Link::Region { a, b } => {
+            let (this, other) = if moving { (b, a) } else { (a, b) };
+            (this.0 == at && this.1 == at).then_some(other)
         }
+        _ => None,
+    }
+}
+
+/// A point must be on the outer side (`value ≥ limit`) of at least one plane of a
+/// piece: when it is certainly inside all but one, that one's bound narrows `t`;
+/// inside all, the box is empty.
+fn outside_some<P>(
+    planes: impl Iterator<Item = P>,
+    test: impl Fn(P) -> (Interval, f64, Linear),
+    t: &mut IVec,
+) -> Option<()> {
+    let mut candidate = None;
+    for plane in planes {
+        let (value, limit, bound) = test(plane);
+        if value.hi >= limit {
+            if candidate.is_some() {
+                return Some(()); // two planes may still hold it out
+            }
+            candidate = Some(bound);
+        }
+    }
+    match candidate {
+        None => None,
+        Some(bound) => narrow(bound, t),
     }
 }
 

@@ -10,14 +10,15 @@ use crate::pose::{Bounds, CONVENTION, Pose};
 /// The identifier of the output format, bumped when a key changes meaning.
 pub const FORMAT: &str = "acsg-graph/1";
 
-/// The whole output of a run.
-#[derive(Clone, Debug, Serialize)]
+/// The whole output of a run; also what [`crate::export`] reads back.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Document {
     /// [`FORMAT`].
-    pub format: &'static str,
+    pub format: String,
     /// The pose convention ([`CONVENTION`]).
-    pub convention: &'static str,
+    pub convention: String,
     /// Units of lengths and angles in this file.
+    #[serde(default)]
     pub units: Units,
     /// The fixed part A: path as given and elements with geometry.
     pub fixed: PartElements,
@@ -38,12 +39,21 @@ pub struct Document {
 }
 
 /// Units used in the file.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Units {
     /// Always "model units" (those of the input files).
-    pub length: &'static str,
+    pub length: String,
     /// Always "radians".
-    pub angle: &'static str,
+    pub angle: String,
+}
+
+impl Default for Units {
+    fn default() -> Units {
+        Units {
+            length: "model units".into(),
+            angle: "radians".into(),
+        }
+    }
 }
 
 /// Bounds as written.
@@ -103,12 +113,9 @@ impl Document {
         moving_elements.path = paths[1].to_string();
         let g = options.assembled;
         Document {
-            format: FORMAT,
-            convention: CONVENTION,
-            units: Units {
-                length: "model units",
-                angle: "radians",
-            },
+            format: FORMAT.into(),
+            convention: CONVENTION.into(),
+            units: Units::default(),
             fixed: fixed_elements,
             moving: moving_elements,
             assembled: Pose::default().matrix(&g),
