@@ -259,6 +259,32 @@ impl<'a> ContactScene<'a> {
         self.run(moving_to_fixed, relative_tolerance, false)
     }
 
+    /// The pairs of a fixed and a moving element that do not touch (within
+    /// `relative_tolerance · L`) but are closer than `within`, sorted: what keeps a pose
+    /// from being a clean witness when its smallest gap is too small.
+    #[must_use]
+    pub fn close_pairs(
+        &self,
+        moving_to_fixed: &DAffine3,
+        relative_tolerance: f64,
+        within: f64,
+    ) -> Vec<(ElementId, ElementId)> {
+        let tol = scaled(relative_tolerance, self.scale);
+        let moving = PlacedPart::new(self.moving, moving_to_fixed);
+        let mut out = Vec::new();
+        self.bvh.query_pairs(&self.moving_bvh, moving_to_fixed, within, |i, j| {
+            let (a, b) = (self.fixed_elements[i as usize], self.moving_elements[j as usize]);
+            if self.fixed_boxes[i as usize].gap(&moving.bounds(b)) < within {
+                let d = touch::distance(&self.fixed, a, &moving, b);
+                if d > tol && d < within {
+                    out.push((a, b));
+                }
+            }
+        });
+        out.sort();
+        out
+    }
+
     fn run(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64, with_gap: bool) -> ContactReport {
         let tol = scaled(relative_tolerance, self.scale);
         let search = if with_gap {

@@ -102,7 +102,6 @@ pub struct Problem<'a> {
     moving_faces: Vec<FaceShape>,
     prover: prover::Prover<'a>,
     scale: f64,
-    margin: f64,
 }
 
 impl<'a> Problem<'a> {
@@ -112,18 +111,16 @@ impl<'a> Problem<'a> {
     pub fn new(fixed: &'a Part, moving: &'a Part, bounds: Bounds, assembled: DAffine3) -> Problem<'a> {
         let scene = ContactScene::new(fixed, moving);
         let scale = scene.scale();
-        let margin = 1e-3 * scale;
         Problem {
             fixed,
             moving,
             bounds,
             assembled,
-            fixed_faces: FaceShape::all(fixed, margin),
-            moving_faces: FaceShape::all(moving, margin),
+            fixed_faces: FaceShape::all(fixed),
+            moving_faces: FaceShape::all(moving),
             prover: prover::Prover::new(fixed, moving, &assembled, scale),
             scene,
             scale,
-            margin,
         }
     }
 
@@ -143,8 +140,9 @@ impl<'a> Problem<'a> {
         pose.to_affine(&self.assembled)
     }
 
-    /// The residuals of a contact state and of non-penetration at a pose.
-    fn residuals(&self, target: &[PrincipalContact], pose: &Pose, penetration: bool, out: &mut Vec<f64>) {
+    /// The residuals of a contact state and of non-penetration at a pose, keeping
+    /// contact points `margin` (a length) inside their elements.
+    fn residuals(&self, target: &[PrincipalContact], pose: &Pose, margin: f64, penetration: bool, out: &mut Vec<f64>) {
         out.clear();
         let t = self.placement(pose);
         let to_b = t.inverse();
@@ -158,14 +156,14 @@ impl<'a> Problem<'a> {
                 faces: &self.moving_faces,
             },
         );
-        let m = Margins { margin: self.margin };
+        let m = Margins { margin };
         for pc in target {
             match (pc.fixed, pc.moving) {
                 (ElementId::Face(f), ElementId::Vertex(v)) => residual::face_vertex(a, f, b, v, &t, m, out),
                 (ElementId::Vertex(v), ElementId::Face(f)) => residual::face_vertex(b, f, a, v, &to_b, m, out),
                 (ElementId::Face(f), ElementId::Edge(e)) => residual::face_edge(a, f, b, e, &t, m, out),
                 (ElementId::Edge(e), ElementId::Face(f)) => residual::face_edge(b, f, a, e, &to_b, m, out),
-                (ElementId::Face(f), ElementId::Face(g)) => residual::face_face(a, f, b, g, &t, &to_b, out),
+                (ElementId::Face(f), ElementId::Face(g)) => residual::face_face(a, f, b, g, &t, &to_b, m, out),
                 (ElementId::Edge(e), ElementId::Edge(x)) if pc.kind == ContactKind::EdgeEdgeTouch => {
                     residual::edge_along_edge(a, e, b, x, &t, m, out);
                 }
@@ -217,24 +215,34 @@ impl<'a> Problem<'a> {
             .collect()
     }
 
-    /// Whether cheap conservative tests prove that no pose in the bounds realises the
+    /// Cheap conservative tests that may prove that no pose in the bounds realises the
     /// target: the rigid distance test, the orientation test over the bounds, then
     /// interval constraint propagation with branch and prune ([`prover`]), limited to
-    /// [`BISECTION_BUDGET`] boxes.
-    fn excluded(&self, target: &[PrincipalContact]) -> Option<Exclusion> {
+    /// [`BISECTION_BUDGET`] boxes. When nothing is proven, the centres of the boxes the
+    /// prover left open, as starts for the optimiser.
+    fn examine(&self, target: &[PrincipalContact]) -> Result<Vec<Pose>, Exclusion> {
         if !self.rigidly_compatible(target) {
-            return Some(Exclusion::Incompatible);
+            return Err(Exclusion::Incompatible);
         }
         let orientable = |bounds: &Bounds| {
             let enclosure = Enclosure::new(bounds);
             target.iter().all(|pc| self.orientable(pc, &enclosure))
         };
         if !orientable(&self.bounds) {
-            return Some(Exclusion::Misoriented);
+            return Err(Exclusion::Misoriented);
         }
-        self.prover
-            .excludes(target, &self.bounds, BISECTION_BUDGET, &orientable)
-            .then_some(Exclusion::Unreachable)
+        let open = self
+            .prover
+            .open_boxes(target, &self.bounds, BISECTION_BUDGET, &orientable)
+            .ok_or(Exclusion::Unreachable)?;
+        Ok(open
+            .iter()
+            .map(|b| {
+                Pose::from_array(std::array::from_fn(|k| {
+                    0.5 * (b.min.to_array()[k] + b.max.to_array()[k])
+                }))
+            })
+            .collect())
     }
 
     /// Whether some rotation in the bounds can put each part on the outer side of the
@@ -388,32 +396,42 @@ impl<'a> Problem<'a> {
 
     /// One local optimisation in two phases: the contacts alone first (cheap, and for
     /// translations a convex problem, so a start pushed into the parts by the bounds
-    /// does not trap it), then with the penetration depth, from there.
+    /// does not trap it), then with the penetration depth, from there. Contact points
+    /// keep [`SEARCH_MARGIN_REL`] inside their elements, which keeps the pose off
+    /// neighbouring states; when that leaves a residual of about the margin (the state
+    /// holds only on a sliver of the bounds), a third phase settles it with
+    /// [`TIGHT_MARGIN_REL`].
     fn solve(&self, target: &[PrincipalContact], start: Pose) -> Pose {
-        let contacts_only = solver::minimise(
-            |x, out| self.residuals(target, x, false, out),
-            start,
-            &self.bounds,
-            self.scale,
-        );
-        solver::minimise(
-            |x, out| self.residuals(target, x, true, out),
-            contacts_only,
-            &self.bounds,
-            self.scale,
-        )
+        let wide = SEARCH_MARGIN_REL * self.scale;
+        let minimise = |margin: f64, penetration: bool, from: Pose| {
+            solver::minimise(
+                |x, out| self.residuals(target, x, margin, penetration, out),
+                from,
+                &self.bounds,
+                self.scale,
+            )
+        };
+        let pose = minimise(wide, true, minimise(wide, false, start));
+        let mut left = Vec::new();
+        self.residuals(target, &pose, wide, true, &mut left);
+        let left = left.iter().map(|r| r * r).sum::<f64>().sqrt();
+        if left > CONTACT_REL * self.scale && left < 3.0 * wide {
+            minimise(TIGHT_MARGIN_REL * self.scale, true, pose)
+        } else {
+            pose
+        }
     }
 
     /// One local optimisation that keeps the target's contacts and pushes the `extra`
     /// contacts' elements apart (to a small clearance), from a pose showing them all.
-    fn release(&self, target: &[PrincipalContact], extra: &[PrincipalContact], start: Pose) -> Pose {
+    fn release(&self, target: &[PrincipalContact], extra: &[(ElementId, ElementId)], start: Pose) -> Pose {
         let clearance = 1e-4 * self.scale;
         solver::minimise(
             |x, out| {
-                self.residuals(target, x, true, out);
+                self.residuals(target, x, SEARCH_MARGIN_REL * self.scale, true, out);
                 let t = self.placement(x);
-                for pc in extra {
-                    let gap = self.scene.element_distance(&t, pc.fixed, pc.moving);
+                for &(a, b) in extra {
+                    let gap = self.scene.element_distance(&t, a, b);
                     out.push((clearance - gap).max(0.0));
                 }
             },
@@ -435,23 +453,36 @@ impl<'a> Problem<'a> {
         constructive: usize,
         stats: &mut SearchStats,
     ) -> Search {
-        if let Some(reason) = self.excluded(target) {
-            match reason {
-                Exclusion::Unreachable => stats.pruned += 1,
-                Exclusion::Misoriented => stats.misoriented += 1,
-                Exclusion::Incompatible => stats.incompatible += 1,
+        let near = match self.examine(target) {
+            Ok(near) => near,
+            Err(reason) => {
+                match reason {
+                    Exclusion::Unreachable => stats.pruned += 1,
+                    Exclusion::Misoriented => stats.misoriented += 1,
+                    Exclusion::Incompatible => stats.incompatible += 1,
+                }
+                return Search::Unreachable;
             }
-            return Search::Unreachable;
-        }
+        };
         let mut others: Vec<(Vec<PrincipalContact>, Pose)> = Vec::new();
-        let starts = warm.iter().copied().chain(self.starts(anchor, constructive));
+        let starts = warm
+            .iter()
+            .copied()
+            .chain(near.into_iter().take(PROVER_STARTS))
+            .chain(self.starts(anchor, constructive));
         for start in starts {
             stats.optimisations += 1;
             let pose = self.solve(target, start);
-            let Some(state) = self.verify(&pose) else { continue };
-            if state == target {
-                return Search::Found(pose);
-            }
+            let state = match self.verify(&pose) {
+                Some(state) if state == target => return Search::Found(pose),
+                Some(state) => state,
+                None => {
+                    if let Some(cleared) = self.clear(target, pose, stats) {
+                        return Search::Found(cleared);
+                    }
+                    continue;
+                }
+            };
             if is_strict_superset(&state, target) {
                 // The target held, with more contacts: push those apart from here.
                 if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
@@ -463,6 +494,33 @@ impl<'a> Problem<'a> {
             }
         }
         Search::NotFound { others }
+    }
+
+    /// A pose where the target's contacts hold with no penetration, inside the bounds,
+    /// but some other pair of elements is closer than a witness allows (the optimiser
+    /// stops where non-penetration becomes active, i.e. at contact, not at clearance):
+    /// one optimisation that pushes those pairs apart; the witness if it verifies.
+    fn clear(&self, target: &[PrincipalContact], pose: Pose, stats: &mut SearchStats) -> Option<Pose> {
+        let placement = self.placement(&pose);
+        let report = self.scene.evaluate(&placement, CONTACT_REL);
+        let holds = report.penetration == 0.0 && target.iter().all(|pc| report.contacts.binary_search(pc).is_ok());
+        if !holds || !self.bounds.contains(&pose, scaled(CONTACT_REL, self.scale), 1e-12) {
+            return None;
+        }
+        let separation = scaled(SEPARATION_REL, self.scale);
+        let mut extra: Vec<(ElementId, ElementId)> = report
+            .contacts
+            .iter()
+            .filter(|pc| !target.contains(pc))
+            .map(|pc| (pc.fixed, pc.moving))
+            .collect();
+        extra.extend(self.scene.close_pairs(&placement, CONTACT_REL, 2.0 * separation));
+        if extra.is_empty() {
+            return None;
+        }
+        stats.optimisations += 1;
+        let cleared = self.release(target, &extra, pose);
+        (self.verify(&cleared).as_deref() == Some(target)).then_some(cleared)
     }
 
     /// Searches for a witness of `target`, a proper subset of a known `state`, from that
@@ -477,7 +535,11 @@ impl<'a> Problem<'a> {
         stats: &mut SearchStats,
     ) -> Search {
         stats.optimisations += 1;
-        let extra: Vec<PrincipalContact> = state.iter().filter(|pc| !target.contains(pc)).copied().collect();
+        let extra: Vec<(ElementId, ElementId)> = state
+            .iter()
+            .filter(|pc| !target.contains(pc))
+            .map(|pc| (pc.fixed, pc.moving))
+            .collect();
         let pose = self.release(target, &extra, witness);
         match self.verify(&pose) {
             Some(found) if found == target => Search::Found(pose),
@@ -509,6 +571,15 @@ impl<'a> Problem<'a> {
             .collect()
     }
 }
+
+/// How far (relative to L) the optimiser keeps contact points inside their elements.
+const SEARCH_MARGIN_REL: f64 = 1e-3;
+/// The margin of the settling phase, for states that hold only within a sliver of the
+/// bounds: well above the separation a witness needs ([`SEPARATION_REL`]).
+const TIGHT_MARGIN_REL: f64 = 2e-5;
+
+/// How many of the boxes the prover leaves open become starts (the deepest first).
+const PROVER_STARTS: usize = 1;
 
 /// Boxes a target's exclusion may examine before the optimiser is called.
 const BISECTION_BUDGET: usize = 256;

@@ -21,13 +21,12 @@ pub(crate) struct FaceShape {
     pub inner: DVec3,
     /// Points spread over the face's interior (for overlap tests of two faces).
     pub samples: Vec<DVec3>,
-    /// The margin kept from the face's boundary: a quarter of its width scale, at most
-    /// the global margin.
-    pub margin: f64,
+    /// The most margin the face allows from its boundary: a quarter of its width scale.
+    pub widest_margin: f64,
 }
 
 impl FaceShape {
-    pub fn all(part: &Part, margin: f64) -> Vec<FaceShape> {
+    pub fn all(part: &Part) -> Vec<FaceShape> {
         part.faces()
             .iter()
             .map(|f| {
@@ -60,10 +59,16 @@ impl FaceShape {
                     loops,
                     inner: inner.0,
                     samples,
-                    margin: margin.min(0.25 * width),
+                    widest_margin: 0.25 * width,
                 }
             })
             .collect()
+    }
+
+    /// The margin kept from the face's boundary: the search's margin, at most
+    /// [`FaceShape::widest_margin`].
+    pub fn margin(&self, m: Margins) -> f64 {
+        m.margin.min(self.widest_margin)
     }
 
     fn region(&self) -> PlanarRegion<'_> {
@@ -132,7 +137,7 @@ pub(crate) fn face_vertex(a: Side, f: FaceId, b: Side, v: VertexId, map: &DAffin
     let face = &a.faces[f.index()];
     let p = map.transform_point3(b.part.vertex(v).position);
     out.push(face.plane_distance(p));
-    out.push(hinge(face.inside_depth(p), face.margin));
+    out.push(hinge(face.inside_depth(p), face.margin(m)));
     for w in neighbours(b.part, v) {
         let q = map.transform_point3(w);
         out.push(hinge(face.normal.dot(q - p), m.clearance(p.distance(q))));
@@ -149,7 +154,7 @@ pub(crate) fn face_edge(a: Side, f: FaceId, b: Side, e: EdgeId, map: &DAffine3, 
     let deepest = (1..10)
         .map(|k| face.inside_depth(p0.lerp(p1, f64::from(k) / 10.0)))
         .fold(f64::NEG_INFINITY, f64::max);
-    out.push(hinge(deepest, face.margin));
+    out.push(hinge(deepest, face.margin(m)));
     for w in edge_neighbours(b.part, e) {
         let q = map.transform_point3(w);
         let d = point_segment(q, &Segment::new(p0, p1)).0;
@@ -159,7 +164,17 @@ pub(crate) fn face_edge(a: Side, f: FaceId, b: Side, e: EdgeId, map: &DAffine3, 
 
 /// A face of `a` against a face of `b`: `b`'s face in the plane, the two overlapping
 /// over an area.
-pub(crate) fn face_face(a: Side, f: FaceId, b: Side, g: FaceId, map: &DAffine3, back: &DAffine3, out: &mut Vec<f64>) {
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn face_face(
+    a: Side,
+    f: FaceId,
+    b: Side,
+    g: FaceId,
+    map: &DAffine3,
+    back: &DAffine3,
+    m: Margins,
+    out: &mut Vec<f64>,
+) {
     let (face, other) = (&a.faces[f.index()], &b.faces[g.index()]);
     for p in other.loops.iter().flatten() {
         out.push(face.plane_distance(map.transform_point3(*p)));
@@ -171,7 +186,7 @@ pub(crate) fn face_face(a: Side, f: FaceId, b: Side, g: FaceId, map: &DAffine3, 
         .map(|&p| depth_in_both(map.transform_point3(p), p))
         .chain(face.samples.iter().map(|&p| depth_in_both(p, back.transform_point3(p))))
         .fold(f64::NEG_INFINITY, f64::max);
-    out.push(hinge(deepest, face.margin.min(other.margin)));
+    out.push(hinge(deepest, face.margin(m).min(other.margin(m))));
 }
 
 /// Two edges crossing at one point inside both, each edge's faces falling away from the

@@ -202,6 +202,9 @@ struct Generator<'a> {
     index: HashMap<Vec<PrincipalContact>, usize>,
     /// Targets searched or known: never searched again.
     seen: BTreeSet<Vec<PrincipalContact>>,
+    /// Targets searched once without success and not proved infeasible: searched once
+    /// more, from the warm starts of the next parent that proposes them.
+    retry: BTreeSet<Vec<PrincipalContact>>,
     stats: Stats,
 }
 
@@ -210,6 +213,8 @@ struct Candidate {
     target: Vec<PrincipalContact>,
     parent: usize,
     added: usize,
+    /// A second search of a target: warm starts only.
+    retry: bool,
 }
 
 impl<'a> Generator<'a> {
@@ -223,6 +228,7 @@ impl<'a> Generator<'a> {
             states: Vec::new(),
             index: HashMap::new(),
             seen: BTreeSet::new(),
+            retry: BTreeSet::new(),
             stats: Stats::default(),
         };
         let root = generator.free_pose();
@@ -430,7 +436,11 @@ impl<'a> Generator<'a> {
                     let parent = self.states[c.parent].witness;
                     let (added, added_witness) = feasible[c.added];
                     let warm: Vec<Pose> = parent.into_iter().chain([added_witness]).collect();
-                    (self.problem.find(&c.target, &warm, &added, 2, &mut stats), stats)
+                    let constructive = if c.retry { 0 } else { 2 };
+                    (
+                        self.problem.find(&c.target, &warm, &added, constructive, &mut stats),
+                        stats,
+                    )
                 }));
                 progress(Progress {
                     stage: 2,
@@ -452,6 +462,9 @@ impl<'a> Generator<'a> {
                     }
                     Search::NotFound { others } => {
                         self.stats.infeasible += 1;
+                        if !candidate.retry {
+                            self.retry.insert(candidate.target.clone());
+                        }
                         for (state, pose) in others {
                             if let Some((id, true)) = self.add_state(state, pose) {
                                 self.stats.found_on_the_way += 1;
@@ -486,11 +499,23 @@ impl<'a> Generator<'a> {
                         self.stats.pruned_implied += 1;
                     } else if !self.options.degenerate && self.is_degenerate(&target) {
                         self.stats.pruned_degenerate += 1;
-                    } else if !self.seen.insert(target.clone()) {
-                        self.stats.pruned_duplicate += 1;
-                    } else {
+                    } else if self.seen.insert(target.clone()) {
                         self.stats.stage2_candidates += 1;
-                        out.push(Candidate { target, parent, added });
+                        out.push(Candidate {
+                            target,
+                            parent,
+                            added,
+                            retry: false,
+                        });
+                    } else if !self.index.contains_key(&target) && self.retry.remove(&target) {
+                        out.push(Candidate {
+                            target,
+                            parent,
+                            added,
+                            retry: true,
+                        });
+                    } else {
+                        self.stats.pruned_duplicate += 1;
                     }
                 }
             }

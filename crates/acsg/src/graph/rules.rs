@@ -83,15 +83,14 @@ fn contact(a: ElementId, b: ElementId) -> PrincipalContact {
     }
 }
 
-/// What two contacts of one state make together.
-#[derive(Clone, Debug, PartialEq, Eq)]
-enum Combined {
-    /// Separate contacts: geometry decides.
-    Independent,
-    /// They cannot hold together (topological existence fails).
-    Impossible,
-    /// One contact, one of these (the pose decides which).
-    Merged(Vec<PrincipalContact>),
+/// One thing two contacts of one state can make together (a pair may have several; the
+/// pose decides which).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Outcome {
+    /// They stay separate contacts.
+    Keep,
+    /// They are one contact.
+    Merge(PrincipalContact),
 }
 
 fn is_vertex(e: ElementId) -> bool {
@@ -104,28 +103,37 @@ fn is_face(e: ElementId) -> bool {
     matches!(e, ElementId::Face(_))
 }
 
-/// The derived mapping rules for a pair of contacts.
-fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalContact) -> Combined {
+/// Whether a contact touches at a single point (f-v, v-f, e-e, e-v, v-e, v-v).
+fn is_point_contact(pc: &PrincipalContact) -> bool {
+    use ContactKind as K;
+    matches!(
+        pc.kind,
+        K::FaceVertex | K::VertexFace | K::EdgeEdge | K::EdgeVertex | K::VertexEdge | K::VertexVertex
+    )
+}
+
+/// The derived mapping rules for a pair of contacts: everything the pair can become;
+/// empty when the two cannot hold together (topological existence fails).
+fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalContact) -> Vec<Outcome> {
     if c1 == c2 {
-        return Combined::Merged(vec![c1]);
+        return vec![Outcome::Merge(c1)];
     }
     let (a1, b1, a2, b2) = (c1.fixed, c1.moving, c2.fixed, c2.moving);
     // One point of B (a vertex, or an edge lying in two faces) touching two elements of
     // A: it lies where their closures meet.
     if b1 == b2 && (is_vertex(b1) || (is_edge(b1) && is_face(a1) && is_face(a2))) {
-        let places = meet(fixed, a1, a2);
-        if places.is_empty() {
-            return Combined::Impossible;
-        }
-        return Combined::Merged(places.into_iter().map(|a| contact(a, b1)).collect());
+        return meet(fixed, a1, a2)
+            .into_iter()
+            .map(|a| Outcome::Merge(contact(a, b1)))
+            .collect();
     }
     if a1 == a2 && (is_vertex(a1) || (is_edge(a1) && is_face(b1) && is_face(b2))) {
-        let places = meet(moving, b1, b2);
-        if places.is_empty() {
-            return Combined::Impossible;
-        }
-        return Combined::Merged(places.into_iter().map(|b| contact(a1, b)).collect());
+        return meet(moving, b1, b2)
+            .into_iter()
+            .map(|b| Outcome::Merge(contact(a1, b)))
+            .collect();
     }
+    let mut outcomes = Vec::new();
     // Two contacts between parts of one element on each side: one higher contact.
     match (join(fixed, a1, a2), join(moving, b1, b2)) {
         (Some(a), Some(b)) => {
@@ -138,41 +146,65 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
             } else {
                 merged
             };
-            let mut options = vec![merged];
-            // Nested on both sides (a vertex contact and a contact of an edge through it,
-            // say): the two may also be one contact at the lower elements, e.g. f-v plus
-            // e-e through that vertex on the face's edge is f-e or e-v.
-            let lower = |part: &Part, x: ElementId, y: ElementId| {
-                if part.in_closure(x, y) {
-                    Some(y)
-                } else if part.in_closure(y, x) {
-                    Some(x)
-                } else {
-                    None
-                }
-            };
-            if let (Some(a), Some(b)) = (lower(fixed, a1, a2), lower(moving, b1, b2)) {
-                let low = contact(a, b);
-                if low != c1 && low != c2 && !options.contains(&low) {
-                    options.push(low);
+            outcomes.push(Outcome::Merge(merged));
+        }
+        _ => outcomes.push(Outcome::Keep),
+    }
+    // The two contact points may also coincide, where the elements' closures meet on
+    // both sides: f-v plus e-e through that vertex on the face's edge is e-v; two edges
+    // of A at one vertex crossing one edge of B is v-e there. For nested elements (a
+    // contact and one through its boundary) this is the lower contact.
+    let nested = |part: &Part, x: ElementId, y: ElementId| part.in_closure(x, y) || part.in_closure(y, x);
+    let nested_both = nested(fixed, a1, a2) && nested(moving, b1, b2);
+    if nested_both || (is_point_contact(&c1) && is_point_contact(&c2)) {
+        for a in meet(fixed, a1, a2) {
+            for b in meet(moving, b1, b2) {
+                let low = PrincipalContact {
+                    fixed: a,
+                    moving: b,
+                    kind: crate::contact::kind_of(a, b, false),
+                };
+                if low != c1 && low != c2 && !outcomes.contains(&Outcome::Merge(low)) {
+                    outcomes.push(Outcome::Merge(low));
                 }
             }
-            Combined::Merged(options)
         }
-        _ => Combined::Independent,
     }
+    outcomes
 }
 
-/// Closes a list of contacts under the mapping rules: every description it can map to
-/// (usually one), each sorted; empty when the combination cannot exist.
-fn close(fixed: &Part, moving: &Part, list: Vec<PrincipalContact>, out: &mut BTreeSet<Vec<PrincipalContact>>) {
+/// Closes a list of contacts under the mapping rules: every description it can map to,
+/// each sorted; nothing when the combination cannot exist. `kept` holds the pairs
+/// already taken to stay separate.
+fn close(
+    fixed: &Part,
+    moving: &Part,
+    list: Vec<PrincipalContact>,
+    kept: &mut Vec<[PrincipalContact; 2]>,
+    out: &mut BTreeSet<Vec<PrincipalContact>>,
+) {
     for i in 0..list.len() {
         for j in i + 1..list.len() {
-            match combine(fixed, moving, list[i], list[j]) {
-                Combined::Independent => {}
-                Combined::Impossible => return,
-                Combined::Merged(options) => {
-                    for merged in options {
+            let pair = if list[i] <= list[j] {
+                [list[i], list[j]]
+            } else {
+                [list[j], list[i]]
+            };
+            if kept.contains(&pair) {
+                continue;
+            }
+            let outcomes = combine(fixed, moving, list[i], list[j]);
+            if outcomes == [Outcome::Keep] {
+                continue;
+            }
+            for outcome in outcomes {
+                match outcome {
+                    Outcome::Keep => {
+                        kept.push(pair);
+                        close(fixed, moving, list.clone(), kept, out);
+                        kept.pop();
+                    }
+                    Outcome::Merge(merged) => {
                         let mut next: Vec<PrincipalContact> = list
                             .iter()
                             .enumerate()
@@ -180,11 +212,11 @@ fn close(fixed: &Part, moving: &Part, list: Vec<PrincipalContact>, out: &mut BTr
                             .map(|(_, c)| *c)
                             .collect();
                         next.push(merged);
-                        close(fixed, moving, next, out);
+                        close(fixed, moving, next, kept, out);
                     }
-                    return;
                 }
             }
+            return;
         }
     }
     let mut list = list;
@@ -205,7 +237,7 @@ pub fn grow(
     let mut list = state.to_vec();
     list.push(added);
     let mut out = BTreeSet::new();
-    close(fixed, moving, list, &mut out);
+    close(fixed, moving, list, &mut Vec::new(), &mut out);
     out.into_iter().collect()
 }
 
