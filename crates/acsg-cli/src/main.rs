@@ -274,7 +274,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let page = acsg::export::html::to_html(&file);
             acsg::io::write_atomic(&output, page.as_bytes())
                 .with_context(|| format!("writing the report {}", output.display()))?;
-            println!("wrote {}", output.display());
+            writeln!(std::io::stdout().lock(), "wrote {}", output.display())?;
             Ok(())
         }
         Command::Export { graph, format, output } => {
@@ -334,35 +334,30 @@ fn generate_and_write(
     let document = Document::new(&graph, &fixed, &moving, &bounds, &options, [&names[0], &names[1]]);
     let json = document.to_json();
     let output = flags.output.or(default_output);
-    let to_stdout = output.is_none();
+    // Results first, messages after: a closed stdout must not cost a result file.
+    let mut messages = String::new();
     if !flags.quiet {
-        let summary = summary(&graph, &names, &bounds);
-        if to_stdout {
-            eprint!("{summary}");
-        } else {
-            print!("{summary}");
-        }
+        messages.push_str(&summary(&graph, &names, &bounds));
     }
-    match output {
+    match &output {
         Some(path) => {
-            acsg::io::write_atomic(&path, json.as_bytes()).with_context(|| "writing the graph")?;
-            if !flags.quiet {
-                println!("wrote {}", path.display());
-            }
+            acsg::io::write_atomic(path, json.as_bytes()).with_context(|| "writing the graph")?;
+            messages.push_str(&format!("wrote {}\n", path.display()));
         }
         None => std::io::stdout().lock().write_all(json.as_bytes())?,
     }
-    if let Some(path) = flags.html {
+    if let Some(path) = &flags.html {
         let page = acsg::export::html::to_html(&GraphFile::from_document(&document));
-        acsg::io::write_atomic(&path, page.as_bytes())
+        acsg::io::write_atomic(path, page.as_bytes())
             .with_context(|| format!("writing the report {}", path.display()))?;
-        if !flags.quiet {
-            // Keep stdout for the JSON when it goes there.
-            if to_stdout {
-                eprintln!("wrote {}", path.display());
-            } else {
-                println!("wrote {}", path.display());
-            }
+        messages.push_str(&format!("wrote {}\n", path.display()));
+    }
+    if !flags.quiet {
+        // Keep stdout for the JSON when it goes there.
+        if output.is_none() {
+            std::io::stderr().lock().write_all(messages.as_bytes())?;
+        } else {
+            std::io::stdout().lock().write_all(messages.as_bytes())?;
         }
     }
     Ok(())

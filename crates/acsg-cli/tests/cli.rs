@@ -445,6 +445,30 @@ fn a_closed_pipe_is_not_an_error() {
     assert!(!String::from_utf8_lossy(&out.stderr).contains("Broken pipe"));
 }
 
+/// The summary goes to stdout after the graph file is written: a reader that has gone
+/// (`acsg generate ... -o g.json | head -1`) costs neither the file nor the exit code.
+#[test]
+fn a_closed_pipe_after_generate_keeps_the_graph_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("g.json");
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("acsg"))
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180", "-o"])
+        .arg(&output)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&output).unwrap()).unwrap();
+    assert_eq!(v["states"].as_array().unwrap().len(), 10);
+}
+
 #[test]
 fn inspect_takes_step_and_iges_paths() {
     acsg()
