@@ -5,6 +5,11 @@ use crate::pose::{Bounds, Pose};
 
 /// Iteration limit of one local optimisation.
 const MAX_ITERATIONS: usize = 150;
+/// A run whose sum of squares fell by less than a tenth over the last
+/// [`STALL_WINDOW`] iterations has stalled (an infeasible target crawling along its
+/// best compromise): it stops there.
+const STALL_WINDOW: usize = 10;
+const STALL_RATIO: f64 = 0.9;
 
 fn sum_squares(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
@@ -52,9 +57,16 @@ pub(crate) fn minimise(residuals: impl Fn(&Pose, &mut Vec<f64>), start: Pose, bo
     let mut f = sum_squares(&r);
     let mut lambda = 1e-3;
     let mut probe = Vec::new();
-    for _ in 0..MAX_ITERATIONS {
+    let mut checkpoint = f;
+    for it in 0..MAX_ITERATIONS {
         if f <= stop {
             break;
+        }
+        if it > 0 && it % STALL_WINDOW == 0 {
+            if f > STALL_RATIO * checkpoint {
+                break;
+            }
+            checkpoint = f;
         }
         // Forward differences, stepping inwards at an upper bound.
         let mut jac = vec![[0.0; 6]; r.len()];
