@@ -79,13 +79,16 @@
     });
     var stage1 = [
       ['card(PPC)', s.ppc], ['ruled out without optimising', s.ppc_unreachable], ['feasible PPCs', s.feasible_ppc],
-      ['optimisations', s.stage1_optimisations], ['time (s)', fmt(s.stage1_seconds, 3)]
+      ['searched by optimisation', s.stage1_searched], ['local optimisation runs', s.stage1_optimisations],
+      ['time (s)', fmt(s.stage1_seconds, 3)]
     ];
     var stage2 = [
       ['pairs considered', s.stage2_pairs], ['pruned: implied', s.pruned_implied], ['pruned: topology', s.pruned_topology],
       ['pruned: degenerate', s.pruned_degenerate], ['pruned: duplicate', s.pruned_duplicate],
-      ['ruled out without optimising', s.pruned_unreachable], ['candidates searched', s.stage2_candidates],
-      ['infeasible', s.infeasible], ['optimisations', s.stage2_optimisations], ['found on the way', s.found_on_the_way],
+      ['candidates', s.stage2_candidates], ['ruled out without optimising', s.pruned_unreachable],
+      ['searched by optimisation', s.stage2_searched], ['local optimisation runs', s.stage2_optimisations],
+      ['searched below known states', s.descents], ['infeasible', s.infeasible],
+      ['found on the way', s.found_on_the_way], ['found below known states', s.found_by_descent],
       ['time (s)', fmt(s.stage2_seconds, 3)]
     ];
     var counts = {};

@@ -48,6 +48,8 @@ struct Shape {
     planes: Vec<(DVec3, f64)>,
     /// Per convex piece: its bounding planes.
     pieces: Vec<Vec<(DVec3, f64)>>,
+    /// Per convex piece: its bounding box (a point outside it is outside the piece).
+    piece_boxes: Vec<(DVec3, DVec3)>,
 }
 
 impl Shape {
@@ -67,6 +69,11 @@ impl Shape {
                 .convex_pieces()
                 .iter()
                 .map(|piece| piece.faces().iter().map(|f| plane(f.normal, f.offset)).collect())
+                .collect(),
+            piece_boxes: part
+                .convex_pieces()
+                .iter()
+                .map(|piece| bounds_of(piece.vertices().iter().map(|&v| frame.transform_point3(v))))
                 .collect(),
         }
     }
@@ -343,48 +350,79 @@ impl<'a> Prover<'a> {
             .iter()
             .map(|piece| piece.iter().map(|&(m, e)| (mat_vec(&r, m), e)).collect())
             .collect();
+        for &c in &constraints {
+            narrow(c, &mut t)?;
+        }
+        // Only the (vertex, piece) pairs whose boxes meet can ever constrain `t` (it
+        // only shrinks): a vertex outside a piece's box is outside the piece.
+        let meets =
+            |p: IVec, (lo, hi): (IVec, IVec)| (0..3).all(|k| p[k].hi >= lo[k].lo - s && p[k].lo <= hi[k].hi + s);
+        let fixed_boxes: Vec<(IVec, IVec)> = self
+            .a
+            .piece_boxes
+            .iter()
+            .map(|&(lo, hi)| (point(lo), point(hi)))
+            .collect();
+        let moving_vs_fixed: Vec<(usize, usize)> = (0..moved.len())
+            .flat_map(|i| (0..fixed_boxes.len()).map(move |j| (i, j)))
+            .filter(|&(i, j)| meets(add(moved[i], t), fixed_boxes[j]))
+            .collect();
+        let turned_boxes: Vec<(IVec, IVec)> = self
+            .b
+            .piece_boxes
+            .iter()
+            .map(|&b| {
+                let turned = mat_box(&r, b);
+                (
+                    turned.map(|i| Interval::point(i.lo)),
+                    turned.map(|i| Interval::point(i.hi)),
+                )
+            })
+            .collect();
+        let fixed_vs_moving: Vec<(usize, usize)> = (0..self.a.vertices.len())
+            .flat_map(|i| (0..turned_boxes.len()).map(move |j| (i, j)))
+            .filter(|&(i, j)| meets(sub(point(self.a.vertices[i]), t), turned_boxes[j]))
+            .collect();
         for _round in 0..6 {
             let before = t;
             for &c in &constraints {
                 narrow(c, &mut t)?;
             }
             // No vertex of the moving part strictly inside a convex piece of the fixed.
-            for w in &moved {
-                for piece in &self.a.pieces {
-                    let p = add(*w, t);
-                    outside_some(
-                        piece.iter().map(|&(n, d)| (point(n), d)),
-                        |(coeffs, d)| {
-                            // n · (R w + t) ≥ d − s
-                            let value = dot(coeffs, p);
-                            let bound = Linear {
-                                coeffs,
-                                range: Interval::new(d - s - dot(coeffs, *w).hi, f64::INFINITY),
-                            };
-                            (value, d - s, bound)
-                        },
-                        &mut t,
-                    )?;
-                }
+            for &(i, j) in &moving_vs_fixed {
+                let w = moved[i];
+                let p = add(w, t);
+                outside_some(
+                    self.a.pieces[j].iter().map(|&(n, d)| (point(n), d)),
+                    |(coeffs, d)| {
+                        // n · (R w + t) ≥ d − s
+                        let value = dot(coeffs, p);
+                        let bound = Linear {
+                            coeffs,
+                            range: Interval::new(d - s - dot(coeffs, w).hi, f64::INFINITY),
+                        };
+                        (value, d - s, bound)
+                    },
+                    &mut t,
+                )?;
             }
             // No vertex of the fixed part strictly inside a convex piece of the moving.
-            for &a in &self.a.vertices {
-                for piece in &turned_pieces {
-                    let q = sub(point(a), t);
-                    outside_some(
-                        piece.iter().copied(),
-                        |(u, e)| {
-                            // (R m) · (a − t) ≥ e − s  ⇔  u · t ≤ u · a − e + s
-                            let value = dot(u, q);
-                            let bound = Linear {
-                                coeffs: u,
-                                range: Interval::new(f64::NEG_INFINITY, dot(u, point(a)).hi - e + s),
-                            };
-                            (value, e - s, bound)
-                        },
-                        &mut t,
-                    )?;
-                }
+            for &(i, j) in &fixed_vs_moving {
+                let a = self.a.vertices[i];
+                let q = sub(point(a), t);
+                outside_some(
+                    turned_pieces[j].iter().copied(),
+                    |(u, e)| {
+                        // (R m) · (a − t) ≥ e − s  ⇔  u · t ≤ u · a − e + s
+                        let value = dot(u, q);
+                        let bound = Linear {
+                            coeffs: u,
+                            range: Interval::new(f64::NEG_INFINITY, dot(u, point(a)).hi - e + s),
+                        };
+                        (value, e - s, bound)
+                    },
+                    &mut t,
+                )?;
             }
             let shrink: f64 = (0..3).map(|k| before[k].width() - t[k].width()).fold(0.0, f64::max);
             if shrink <= 1e-3 * (0..3).map(|k| t[k].width()).fold(s, f64::max) {

@@ -342,3 +342,87 @@ pub fn state_primitives(fixed: &Part, moving: &Part, state: &[PrincipalContact])
         .flat_map(|pc| implied_primitives(fixed, moving, pc))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::examples::cube_and_slab;
+
+    fn pc(fixed: ElementId, moving: ElementId) -> PrincipalContact {
+        PrincipalContact {
+            fixed,
+            moving,
+            kind: crate::contact::kind_of(fixed, moving, false),
+        }
+    }
+
+    /// Two edges of the cube at one corner, and one edge of the slab's top face.
+    fn corner_edges(cube: &Part) -> (VertexId, EdgeId, EdgeId) {
+        let v = VertexId(0);
+        let edges = &cube.vertex(v).edges;
+        (v, edges[0], edges[1])
+    }
+
+    #[test]
+    fn two_crossings_of_one_edge_may_coincide_at_the_vertex_between_them() {
+        // Fixed: the cube (A); moving: the slab (B). Two edges of A at vertex v both
+        // crossing edge x of B: apart (two e-e), or at v (v-e), never anything else.
+        let (slab, cube) = cube_and_slab();
+        let (v, e1, e2) = corner_edges(&cube);
+        let x = slab.convex_edges().next().expect("a convex edge");
+        let c1 = pc(ElementId::Edge(e1), ElementId::Edge(x));
+        let c2 = pc(ElementId::Edge(e2), ElementId::Edge(x));
+        let grown = grow(&cube, &slab, &[c1], c2);
+        let at_vertex = vec![pc(ElementId::Vertex(v), ElementId::Edge(x))];
+        assert!(grown.contains(&at_vertex), "{grown:?}");
+        // e1 and e2 share a face of the cube: the edge may also lie in it (f-e); two
+        // separate crossings of a convex face's boundary by a straight edge put the edge
+        // in the face, so they are not proposed apart.
+        let face = join(&cube, ElementId::Edge(e1), ElementId::Edge(e2)).expect("a common face");
+        assert!(grown.contains(&vec![contact(face, ElementId::Edge(x))]), "{grown:?}");
+        assert_eq!(grown.len(), 2, "{grown:?}");
+    }
+
+    #[test]
+    fn a_vertex_on_a_face_and_a_crossing_through_it_may_be_one_edge_vertex_contact() {
+        let (slab, cube) = cube_and_slab();
+        // The slab's top face f and one of its edges e; a cube vertex w and an edge y
+        // ending at w.
+        let f = FaceId(0);
+        let e = slab.closure_edges(ElementId::Face(f))[0];
+        let w = VertexId(0);
+        let y = cube.vertex(w).edges[0];
+        let on_face = pc(ElementId::Face(f), ElementId::Vertex(w));
+        let crossing = pc(ElementId::Edge(e), ElementId::Edge(y));
+        let grown = grow(&slab, &cube, &[on_face], crossing);
+        assert!(
+            grown.contains(&vec![pc(ElementId::Edge(e), ElementId::Vertex(w))]),
+            "{grown:?}"
+        );
+        assert!(
+            grown.contains(&vec![contact(ElementId::Face(f), ElementId::Edge(y))]),
+            "{grown:?}"
+        );
+    }
+
+    #[test]
+    fn contacts_with_disjoint_elements_stay_apart() {
+        let (slab, cube) = cube_and_slab();
+        // Two opposite cube vertices on one slab face: no common element on the cube,
+        // so no merge; the two f-v contacts stay.
+        let f = ElementId::Face(FaceId(0));
+        let far = (0..cube.vertices().len() as u32)
+            .map(VertexId)
+            .max_by(|a, b| {
+                let p0 = cube.vertex(VertexId(0)).position;
+                p0.distance(cube.vertex(*a).position)
+                    .total_cmp(&p0.distance(cube.vertex(*b).position))
+            })
+            .expect("vertices");
+        let c1 = pc(f, ElementId::Vertex(VertexId(0)));
+        let c2 = pc(f, ElementId::Vertex(far));
+        let mut both = vec![c1, c2];
+        both.sort();
+        assert_eq!(grow(&slab, &cube, &[c1], c2), vec![both]);
+    }
+}
