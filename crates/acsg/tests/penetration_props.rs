@@ -6,6 +6,7 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+use acsg::contact::ContactScene;
 use acsg::contact::penetration::{convex_separation, penetration};
 use acsg::convex::ConvexPolytope;
 use acsg::model::Part;
@@ -51,8 +52,36 @@ fn cube_fixture() -> &'static Part {
     })
 }
 
+/// The round peg and its hole (pieces with and without Gauss maps), loaded once.
+fn round_peg_in_hole() -> &'static (ContactScene<'static>, f64) {
+    static SCENE: OnceLock<(ContactScene<'static>, f64)> = OnceLock::new();
+    SCENE.get_or_init(|| {
+        let load = |name: &str| -> &'static Part {
+            let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures").join(name);
+            Box::leak(Box::new(Part::from_path(&path).expect("fixture loads")))
+        };
+        let scene = ContactScene::new(load("block_with_round_hole.off"), load("round_peg.off"));
+        let scale = scene.scale();
+        (scene, scale)
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// The optimiser's fast residual (SAT with early exits) is exactly the positive
+    /// part of the full penetration depth.
+    #[test]
+    fn penetration_excess_is_the_positive_part_of_the_depth(
+        t in vec3(-3.0, 3.0),
+        lift in -20.0f64..60.0,
+        q in (unit_vector(), -0.3f64..0.3).prop_map(|(axis, angle)| DQuat::from_axis_angle(axis, angle)),
+    ) {
+        let (scene, _) = round_peg_in_hole();
+        let pose = DAffine3::from_rotation_translation(q, DVec3::new(t.x, t.y, t.z + lift));
+        let full = scene.penetration_depth(&pose).max(0.0);
+        prop_assert_eq!(scene.penetration_excess(&pose), full);
+    }
 
     #[test]
     fn axis_aligned_boxes_match_interval_overlaps(

@@ -190,7 +190,10 @@ fn arcs_cross(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
 }
 
 /// SAT over the facets of A ⊕ (−B); both hulls in the same frame.
-pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>) -> Separation {
+/// With `until_separated`, stops at the first axis that separates or touches (depth
+/// ≤ 0): the depth returned is then only an upper bound, enough to know that the pair
+/// does not penetrate.
+pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>, until_separated: bool) -> Separation {
     let mut best = Separation {
         depth: f64::INFINITY,
         axis: DVec3::X,
@@ -207,7 +210,11 @@ pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>) -> Separation {
         let (n, offset) = (a.normals[f as usize], a.offsets[f as usize]);
         let (min_b, at) = b.min_along(n, start);
         start = at;
-        consider(offset - min_b, n, 0.5 * (offset + min_b));
+        let depth = offset - min_b;
+        if until_separated && depth <= 0.0 {
+            return Separation::bound(depth, n);
+        }
+        consider(depth, n, 0.5 * (offset + min_b));
     }
     // B's faces, reversed: h_M(-m) = offset_B - min_A(m).
     let mut start = 0;
@@ -215,7 +222,11 @@ pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>) -> Separation {
         let (m, offset) = (b.normals[g as usize], b.offsets[g as usize]);
         let (min_a, at) = a.min_along(m, start);
         start = at;
-        consider(offset - min_a, -m, -0.5 * (offset + min_a));
+        let depth = offset - min_a;
+        if until_separated && depth <= 0.0 {
+            return Separation::bound(depth, -m);
+        }
+        consider(depth, -m, -0.5 * (offset + min_a));
     }
     // Edge pairs whose arcs (A's, and -B's) cross: one traversal of both hierarchies,
     // B's boxes mapped into A's own frame; the exact test in A's own frame too.
@@ -290,7 +301,7 @@ mod tests {
             for distance in [10.0, 14.0, 15.5, 16.5, 20.0] {
                 let t = DAffine3::from_rotation_translation(rotation, direction * distance);
                 let plain = convex_separation(&a, &b, &t);
-                let fast = separate(&ga.placed(&DAffine3::IDENTITY), &gb.placed(&t));
+                let fast = separate(&ga.placed(&DAffine3::IDENTITY), &gb.placed(&t), false);
                 if plain.depth > 1e-9 {
                     penetrating += 1;
                     crate::assert_near!(fast.depth, plain.depth, 1e-9);

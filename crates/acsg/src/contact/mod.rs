@@ -223,6 +223,13 @@ impl<'a> ContactScene<'a> {
         penetration::penetration_prepared(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed, self.scale).depth
     }
 
+    /// The penetration depth when positive, else 0 ([`penetration::penetration_excess`]):
+    /// the same value as `penetration_depth(..).max(0.0)`, faster.
+    #[must_use]
+    pub fn penetration_excess(&self, moving_to_fixed: &DAffine3) -> f64 {
+        penetration::penetration_excess(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed)
+    }
+
     /// The distance between the closures of two elements of one part (the fixed one
     /// if `fixed`, else the moving one, in its own frame).
     #[must_use]

@@ -174,7 +174,7 @@ impl<'a> Problem<'a> {
             }
         }
         if penetration {
-            out.push(self.scene.penetration_depth(&t).max(0.0));
+            out.push(self.scene.penetration_excess(&t));
         }
     }
 
