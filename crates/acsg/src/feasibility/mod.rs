@@ -180,8 +180,8 @@ impl<'a> Problem<'a> {
 
     /// Starting poses that put the anchor contact's points together, for up to `count`
     /// orientations spread over the bounds (the centre first, then the octants).
-    fn starts(&self, anchor: &PrincipalContact, count: usize) -> Vec<Pose> {
-        let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
+    fn starts(&self, anchor: &PrincipalContact, count: usize, bounds: &Bounds) -> Vec<Pose> {
+        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
         let mut orientations = vec![[0.5, 0.5, 0.5]];
         for corner in 0..8 {
             orientations.push([
@@ -210,7 +210,7 @@ impl<'a> Problem<'a> {
                 pose.x = t.x;
                 pose.y = t.y;
                 pose.z = t.z;
-                self.bounds.clamp(&pose)
+                bounds.clamp(&pose)
             })
             .collect()
     }
@@ -220,7 +220,7 @@ impl<'a> Problem<'a> {
     /// interval constraint propagation with branch and prune ([`prover`]), limited to
     /// [`BISECTION_BUDGET`] boxes. When nothing is proven, the centres of the boxes the
     /// prover left open, as starts for the optimiser.
-    fn examine(&self, target: &[PrincipalContact]) -> Result<Vec<Pose>, Exclusion> {
+    fn examine(&self, target: &[PrincipalContact], bounds: &Bounds) -> Result<Vec<Pose>, Exclusion> {
         if !self.rigidly_compatible(target) {
             return Err(Exclusion::Incompatible);
         }
@@ -228,12 +228,12 @@ impl<'a> Problem<'a> {
             let enclosure = Enclosure::new(bounds);
             target.iter().all(|pc| self.orientable(pc, &enclosure))
         };
-        if !orientable(&self.bounds) {
+        if !orientable(bounds) {
             return Err(Exclusion::Misoriented);
         }
         let open = self
             .prover
-            .open_boxes(target, &self.bounds, BISECTION_BUDGET, &orientable)
+            .open_boxes(target, bounds, BISECTION_BUDGET, &orientable)
             .ok_or(Exclusion::Unreachable)?;
         Ok(open
             .iter()
@@ -401,13 +401,13 @@ impl<'a> Problem<'a> {
     /// neighbouring states; when that leaves a residual of about the margin (the state
     /// holds only on a sliver of the bounds), a third phase settles it with
     /// [`TIGHT_MARGIN_REL`].
-    fn solve(&self, target: &[PrincipalContact], start: Pose) -> Pose {
+    fn solve(&self, target: &[PrincipalContact], start: Pose, bounds: &Bounds) -> Pose {
         let wide = SEARCH_MARGIN_REL * self.scale;
         let minimise = |margin: f64, penetration: bool, from: Pose| {
             solver::minimise(
                 |x, out| self.residuals(target, x, margin, penetration, out),
                 from,
-                &self.bounds,
+                bounds,
                 self.scale,
             )
         };
@@ -424,7 +424,13 @@ impl<'a> Problem<'a> {
 
     /// One local optimisation that keeps the target's contacts and pushes the `extra`
     /// contacts' elements apart (to a small clearance), from a pose showing them all.
-    fn release(&self, target: &[PrincipalContact], extra: &[(ElementId, ElementId)], start: Pose) -> Pose {
+    fn release(
+        &self,
+        target: &[PrincipalContact],
+        extra: &[(ElementId, ElementId)],
+        start: Pose,
+        bounds: &Bounds,
+    ) -> Pose {
         let clearance = 1e-4 * self.scale;
         solver::minimise(
             |x, out| {
@@ -436,7 +442,7 @@ impl<'a> Problem<'a> {
                 }
             },
             start,
-            &self.bounds,
+            bounds,
             self.scale,
         )
     }
@@ -453,7 +459,45 @@ impl<'a> Problem<'a> {
         constructive: usize,
         stats: &mut SearchStats,
     ) -> Search {
-        let near = match self.examine(target) {
+        self.find_within(target, warm, anchor, constructive, &self.bounds, stats)
+    }
+
+    /// Searches for a witness of `target` close to a known `pose` (of a state that
+    /// holds it and more, say): [`Problem::find`] within small boxes around the pose,
+    /// first [`NEAR_REL`] then a hundred times that (translations relative to L, angles
+    /// in radians), clipped to the bounds. A state whose neighbours hold only next to
+    /// it, at a bound, is found this way when the search over the whole bounds misses
+    /// it.
+    pub fn find_near(&self, target: &[PrincipalContact], pose: Pose, stats: &mut SearchStats) -> Search {
+        let mut others = Vec::new();
+        for size in [NEAR_REL, 100.0 * NEAR_REL] {
+            let x = pose.to_array();
+            let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
+            let reach = |k: usize| if k < 3 { size * self.scale } else { size };
+            let local_lo: [f64; 6] = std::array::from_fn(|k| (x[k] - reach(k)).max(lo[k]));
+            let local_hi: [f64; 6] = std::array::from_fn(|k| (x[k] + reach(k)).min(hi[k]));
+            let Ok(local) = Bounds::try_new(local_lo, local_hi) else {
+                continue;
+            };
+            match self.find_within(target, &[pose], &target[0], 2, &local, stats) {
+                Search::Found(found) => return Search::Found(found),
+                Search::NotFound { others: seen } => others.extend(seen),
+                Search::Unreachable => {}
+            }
+        }
+        Search::NotFound { others }
+    }
+
+    fn find_within(
+        &self,
+        target: &[PrincipalContact],
+        warm: &[Pose],
+        anchor: &PrincipalContact,
+        constructive: usize,
+        bounds: &Bounds,
+        stats: &mut SearchStats,
+    ) -> Search {
+        let near = match self.examine(target, bounds) {
             Ok(near) => near,
             Err(reason) => {
                 match reason {
@@ -469,15 +513,15 @@ impl<'a> Problem<'a> {
             .iter()
             .copied()
             .chain(near.into_iter().take(PROVER_STARTS))
-            .chain(self.starts(anchor, constructive));
+            .chain(self.starts(anchor, constructive, bounds));
         for start in starts {
             stats.optimisations += 1;
-            let pose = self.solve(target, start);
+            let pose = self.solve(target, start, bounds);
             let state = match self.verify(&pose) {
                 Some(state) if state == target => return Search::Found(pose),
                 Some(state) => state,
                 None => {
-                    if let Some(cleared) = self.clear(target, pose, stats) {
+                    if let Some(cleared) = self.clear(target, pose, bounds, stats) {
                         return Search::Found(cleared);
                     }
                     continue;
@@ -500,7 +544,7 @@ impl<'a> Problem<'a> {
     /// but some other pair of elements is closer than a witness allows (the optimiser
     /// stops where non-penetration becomes active, i.e. at contact, not at clearance):
     /// one optimisation that pushes those pairs apart; the witness if it verifies.
-    fn clear(&self, target: &[PrincipalContact], pose: Pose, stats: &mut SearchStats) -> Option<Pose> {
+    fn clear(&self, target: &[PrincipalContact], pose: Pose, bounds: &Bounds, stats: &mut SearchStats) -> Option<Pose> {
         let placement = self.placement(&pose);
         let report = self.scene.evaluate(&placement, CONTACT_REL);
         let holds = report.penetration == 0.0 && target.iter().all(|pc| report.contacts.binary_search(pc).is_ok());
@@ -519,7 +563,7 @@ impl<'a> Problem<'a> {
             return None;
         }
         stats.optimisations += 1;
-        let cleared = self.release(target, &extra, pose);
+        let cleared = self.release(target, &extra, pose, bounds);
         (self.verify(&cleared).as_deref() == Some(target)).then_some(cleared)
     }
 
@@ -540,7 +584,7 @@ impl<'a> Problem<'a> {
             .filter(|pc| !target.contains(pc))
             .map(|pc| (pc.fixed, pc.moving))
             .collect();
-        let pose = self.release(target, &extra, witness);
+        let pose = self.release(target, &extra, witness, &self.bounds);
         match self.verify(&pose) {
             Some(found) if found == target => Search::Found(pose),
             Some(found) => Search::NotFound {
@@ -577,6 +621,10 @@ const SEARCH_MARGIN_REL: f64 = 1e-3;
 /// The margin of the settling phase, for states that hold only within a sliver of the
 /// bounds: well above the separation a witness needs ([`SEPARATION_REL`]).
 const TIGHT_MARGIN_REL: f64 = 2e-5;
+
+/// The half-size of the first box [`Problem::find_near`] searches (translations
+/// relative to L, angles in radians).
+const NEAR_REL: f64 = 1e-4;
 
 /// How many of the boxes the prover leaves open become starts (the deepest first).
 const PROVER_STARTS: usize = 1;

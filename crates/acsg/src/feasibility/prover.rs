@@ -662,11 +662,14 @@ mod tests {
             let problem = super::super::Problem::new(&a, &b, bounds, DAffine3::IDENTITY);
             let mut checked = 0;
             for ppc in super::super::primitive_contacts(&a, &b) {
-                for start in problem.starts(&ppc, 3) {
-                    let pose = problem.solve(&[ppc], start);
+                for start in problem.starts(&ppc, 3, problem.bounds()) {
+                    let pose = problem.solve(&[ppc], start, problem.bounds());
                     if let Some(state) = problem.verify(&pose) {
                         checked += 1;
-                        assert!(problem.examine(&state).is_ok(), "{state:?} excluded, witness {pose:?}");
+                        assert!(
+                            problem.examine(&state, problem.bounds()).is_ok(),
+                            "{state:?} excluded, witness {pose:?}"
+                        );
                     }
                 }
             }

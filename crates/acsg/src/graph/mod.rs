@@ -360,7 +360,7 @@ impl<'a> Generator<'a> {
                 break;
             }
         }
-        let edges = self.neighbours(&feasible);
+        let edges = self.neighbours();
         self.stats.states = self.states.len();
         self.stats.edges = edges.len();
         self.stats.stage2_seconds = started.elapsed().as_secs_f64();
@@ -397,7 +397,20 @@ impl<'a> Generator<'a> {
             .map(|(target, from, witness)| {
                 let mut stats = SearchStats::default();
                 let above = &self.states[*from].contacts;
-                (self.problem.find_below(target, above, *witness, &mut stats), stats)
+                // Pushing the other contacts apart first; then a search in small boxes
+                // around the witness (next to a bound that one can miss).
+                let search = match self.problem.find_below(target, above, *witness, &mut stats) {
+                    Search::NotFound { mut others } => match self.problem.find_near(target, *witness, &mut stats) {
+                        Search::Found(pose) => Search::Found(pose),
+                        Search::NotFound { others: more } => {
+                            others.extend(more);
+                            Search::NotFound { others }
+                        }
+                        Search::Unreachable => Search::NotFound { others },
+                    },
+                    found => found,
+                };
+                (search, stats)
             })
             .collect();
         let mut frontier = Vec::new();
@@ -524,8 +537,15 @@ impl<'a> Generator<'a> {
     }
 
     /// Neighbour pairs: free space with every single-PPC state; a state with each state
-    /// it grows into by one feasible PPC (DOMAIN.md section 4).
-    fn neighbours(&self, feasible: &[(PrincipalContact, Pose)]) -> Vec<[usize; 2]> {
+    /// it grows into by one PPC (DOMAIN.md section 4). The PPCs tried are those some
+    /// known state implies: a state grown into holds the PPC made, whether or not that
+    /// PPC was found feasible alone in stage 1.
+    fn neighbours(&self) -> Vec<[usize; 2]> {
+        let made: BTreeSet<PrincipalContact> = self
+            .states
+            .iter()
+            .flat_map(|s| rules::state_primitives(self.fixed, self.moving, &s.contacts))
+            .collect();
         let mut edges = BTreeSet::new();
         for state in &self.states[1..] {
             if let [pc] = state.contacts[..] {
@@ -534,8 +554,8 @@ impl<'a> Generator<'a> {
                 }
             }
             let implied = rules::state_primitives(self.fixed, self.moving, &state.contacts);
-            for (ppc, _) in feasible.iter().filter(|(p, _)| !implied.contains(p)) {
-                for target in rules::grow(self.fixed, self.moving, &state.contacts, *ppc) {
+            for ppc in made.iter().filter(|p| !implied.contains(p)) {
+                for target in rules::grow_every(self.fixed, self.moving, &state.contacts, *ppc) {
                     if let Some(&other) = self.index.get(&target) {
                         // Making one PPC keeps every PPC the state had.
                         let keeps = rules::state_primitives(self.fixed, self.moving, &target).is_superset(&implied);

@@ -114,7 +114,7 @@ fn is_point_contact(pc: &PrincipalContact) -> bool {
 
 /// The derived mapping rules for a pair of contacts: everything the pair can become;
 /// empty when the two cannot hold together (topological existence fails).
-fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalContact) -> Vec<Outcome> {
+fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalContact, hinged: bool) -> Vec<Outcome> {
     if c1 == c2 {
         return vec![Outcome::Merge(c1)];
     }
@@ -134,7 +134,10 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
             .collect();
     }
     let mut outcomes = Vec::new();
-    // Two contacts between parts of one element on each side: one higher contact.
+    // Two contacts between parts of one element on each side: one higher contact. When
+    // an edge (a line) is one of the two, its two points in the other element force it
+    // there; two points of a face in another face's plane do not (the faces may hinge
+    // about the line through them), so with `hinged` the contacts may also stay apart.
     match (join(fixed, a1, a2), join(moving, b1, b2)) {
         (Some(a), Some(b)) => {
             let merged = contact(a, b);
@@ -146,6 +149,9 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
             } else {
                 merged
             };
+            if hinged && is_face(a) && is_face(b) && merged != c1 && merged != c2 {
+                outcomes.push(Outcome::Keep);
+            }
             outcomes.push(Outcome::Merge(merged));
         }
         _ => outcomes.push(Outcome::Keep),
@@ -179,6 +185,7 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
 fn close(
     fixed: &Part,
     moving: &Part,
+    hinged: bool,
     list: Vec<PrincipalContact>,
     kept: &mut Vec<[PrincipalContact; 2]>,
     out: &mut BTreeSet<Vec<PrincipalContact>>,
@@ -193,7 +200,7 @@ fn close(
             if kept.contains(&pair) {
                 continue;
             }
-            let outcomes = combine(fixed, moving, list[i], list[j]);
+            let outcomes = combine(fixed, moving, list[i], list[j], hinged);
             if outcomes == [Outcome::Keep] {
                 continue;
             }
@@ -201,7 +208,7 @@ fn close(
                 match outcome {
                     Outcome::Keep => {
                         kept.push(pair);
-                        close(fixed, moving, list.clone(), kept, out);
+                        close(fixed, moving, hinged, list.clone(), kept, out);
                         kept.pop();
                     }
                     Outcome::Merge(merged) => {
@@ -212,7 +219,7 @@ fn close(
                             .map(|(_, c)| *c)
                             .collect();
                         next.push(merged);
-                        close(fixed, moving, next, kept, out);
+                        close(fixed, moving, hinged, next, kept, out);
                     }
                 }
             }
@@ -226,7 +233,9 @@ fn close(
 }
 
 /// The states a state plus one primitive contact can map to (TopUniqDesc); empty when
-/// topological existence rules the combination out.
+/// topological existence rules the combination out. Two point contacts within one face
+/// on each side map to the two faces in contact (the likely outcome, which keeps the
+/// search small); [`grow_every`] also keeps them apart.
 #[must_use]
 pub fn grow(
     fixed: &Part,
@@ -234,10 +243,33 @@ pub fn grow(
     state: &[PrincipalContact],
     added: PrincipalContact,
 ) -> Vec<Vec<PrincipalContact>> {
+    grow_with(fixed, moving, state, added, false)
+}
+
+/// Every state a state plus one primitive contact can map to, including two point
+/// contacts of one face on each side that stay apart (the faces hinged about the line
+/// through the two points): what decides whether two known states are neighbours.
+#[must_use]
+pub fn grow_every(
+    fixed: &Part,
+    moving: &Part,
+    state: &[PrincipalContact],
+    added: PrincipalContact,
+) -> Vec<Vec<PrincipalContact>> {
+    grow_with(fixed, moving, state, added, true)
+}
+
+fn grow_with(
+    fixed: &Part,
+    moving: &Part,
+    state: &[PrincipalContact],
+    added: PrincipalContact,
+    hinged: bool,
+) -> Vec<Vec<PrincipalContact>> {
     let mut list = state.to_vec();
     list.push(added);
     let mut out = BTreeSet::new();
-    close(fixed, moving, list, &mut Vec::new(), &mut out);
+    close(fixed, moving, hinged, list, &mut Vec::new(), &mut out);
     out.into_iter().collect()
 }
 
@@ -424,5 +456,28 @@ mod tests {
         let mut both = vec![c1, c2];
         both.sort();
         assert_eq!(grow(&slab, &cube, &[c1], c2), vec![both]);
+    }
+
+    #[test]
+    fn two_corners_of_one_face_on_a_face_may_hinge_apart() {
+        // Two diagonal corners of a cube face on the slab's face: the cube face on the
+        // slab (f-f) is the likely outcome; the cube may also rest on the two corners,
+        // turned about the diagonal, which only `grow_every` keeps.
+        let (slab, cube) = cube_and_slab();
+        let f = ElementId::Face(FaceId(0));
+        let g = cube.vertex(VertexId(0)).faces[0];
+        let corners = cube.closure_vertices(ElementId::Face(g));
+        let v = corners[0];
+        let diagonal = *corners
+            .iter()
+            .find(|&&w| w != v && !cube.vertex(v).edges.iter().any(|&e| cube.edge(e).vertices.contains(&w)))
+            .expect("the opposite corner");
+        let (c1, c2) = (pc(f, ElementId::Vertex(v)), pc(f, ElementId::Vertex(diagonal)));
+        let on_face = vec![contact(f, ElementId::Face(g))];
+        let mut apart = vec![c1, c2];
+        apart.sort();
+        assert_eq!(grow(&slab, &cube, &[c1], c2), vec![on_face.clone()]);
+        let every = grow_every(&slab, &cube, &[c1], c2);
+        assert!(every.contains(&on_face) && every.contains(&apart), "{every:?}");
     }
 }
