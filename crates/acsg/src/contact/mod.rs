@@ -256,14 +256,18 @@ impl<'a> ContactScene<'a> {
     /// `moving_to_fixed`; contacts hold within `relative_tolerance · L`.
     #[must_use]
     pub fn evaluate(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64) -> ContactReport {
-        self.run(moving_to_fixed, relative_tolerance, true)
+        self.run(
+            moving_to_fixed,
+            relative_tolerance,
+            Some(scaled(GAP_SEARCH_REL, self.scale)),
+        )
     }
 
     /// [`ContactScene::evaluate`] without the search for the smallest gap (`min_gap` is
     /// `None`): P(X) and penetration only, the cheaper query for tight loops.
     #[must_use]
     pub fn state(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64) -> ContactReport {
-        self.run(moving_to_fixed, relative_tolerance, false)
+        self.run(moving_to_fixed, relative_tolerance, None)
     }
 
     /// The pairs of a fixed and a moving element that do not touch (within
@@ -292,13 +296,25 @@ impl<'a> ContactScene<'a> {
         out
     }
 
-    fn run(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64, with_gap: bool) -> ContactReport {
+    /// [`ContactScene::evaluate`] with the smallest gap searched only up to
+    /// `gap_search` (a length): `min_gap` is `None` when every pair that does not touch
+    /// is at least that far apart. Enough to tell a clean witness (gap at least the
+    /// separation tolerance) from a borderline pose, and much cheaper than the full
+    /// search when the parts are close all around (a peg in its hole).
+    #[must_use]
+    pub fn evaluate_within(
+        &self,
+        moving_to_fixed: &DAffine3,
+        relative_tolerance: f64,
+        gap_search: f64,
+    ) -> ContactReport {
+        self.run(moving_to_fixed, relative_tolerance, Some(gap_search))
+    }
+
+    fn run(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64, gap_search: Option<f64>) -> ContactReport {
         let tol = scaled(relative_tolerance, self.scale);
-        let search = if with_gap {
-            scaled(GAP_SEARCH_REL, self.scale).max(2.0 * tol)
-        } else {
-            tol
-        };
+        let with_gap = gap_search.is_some();
+        let search = gap_search.map_or(tol, |g| g.max(2.0 * tol));
         let moving = PlacedPart::new(self.moving, moving_to_fixed);
         let mut touches = Vec::new();
         let mut min_gap: Option<f64> = None;

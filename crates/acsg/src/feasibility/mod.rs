@@ -381,8 +381,11 @@ impl<'a> Problem<'a> {
         if !self.bounds.contains(pose, scaled(CONTACT_REL, self.scale), angle_tol) {
             return None;
         }
-        let report = self.scene.evaluate(&self.placement(pose), CONTACT_REL);
-        let clear = report.min_gap.is_none_or(|g| g >= scaled(SEPARATION_REL, self.scale));
+        let separation = scaled(SEPARATION_REL, self.scale);
+        let report = self
+            .scene
+            .evaluate_within(&self.placement(pose), CONTACT_REL, 2.0 * separation);
+        let clear = report.min_gap.is_none_or(|g| g >= separation);
         (report.penetration == 0.0 && clear).then_some(report.contacts)
     }
 
@@ -546,7 +549,9 @@ impl<'a> Problem<'a> {
     /// one optimisation that pushes those pairs apart; the witness if it verifies.
     fn clear(&self, target: &[PrincipalContact], pose: Pose, bounds: &Bounds, stats: &mut SearchStats) -> Option<Pose> {
         let placement = self.placement(&pose);
-        let report = self.scene.evaluate(&placement, CONTACT_REL);
+        let report = self
+            .scene
+            .evaluate_within(&placement, CONTACT_REL, 2.0 * scaled(SEPARATION_REL, self.scale));
         let holds = report.penetration == 0.0 && target.iter().all(|pc| report.contacts.binary_search(pc).is_ok());
         if !holds || !self.bounds.contains(&pose, scaled(CONTACT_REL, self.scale), 1e-12) {
             return None;
