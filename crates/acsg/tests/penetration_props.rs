@@ -10,6 +10,8 @@ use acsg::contact::ContactScene;
 use acsg::contact::penetration::{convex_separation, penetration};
 use acsg::convex::ConvexPolytope;
 use acsg::model::Part;
+use acsg::model::{EdgeId, ElementId, FaceId, VertexId};
+use acsg::tolerance::{CONTACT_REL, GAP_SEARCH_REL};
 use glam::{DAffine3, DQuat, DVec3};
 use proptest::prelude::*;
 
@@ -197,5 +199,44 @@ proptest! {
         let s = convex_separation(&a, &b, &pose);
         prop_assert!(s.depth >= 2.0 * hb.min_element() - 1e-9, "depth {}", s.depth);
         prop_assert!(s.depth > 0.0);
+    }
+}
+
+proptest! {
+    // A brute-force pass over every pair of elements: fewer cases.
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// The smallest gap the contact module reports (with its cheap plane tests that skip
+    /// pairs) is the brute-force minimum over every pair of elements that do not touch.
+    #[test]
+    fn smallest_gap_is_the_brute_force_minimum(
+        t in vec3(-1.5, 1.5),
+        lift in 0.0f64..40.0,
+        q in (unit_vector(), -0.05f64..0.05).prop_map(|(axis, angle)| DQuat::from_axis_angle(axis, angle)),
+    ) {
+        let (scene, scale) = round_peg_in_hole();
+        let pose = DAffine3::from_rotation_translation(q, DVec3::new(t.x, t.y, t.z + lift));
+        let report = scene.evaluate(&pose, CONTACT_REL);
+        let (fixed, moving) = scene.parts();
+        let elements = |part: &Part| -> Vec<ElementId> {
+            (0..part.faces().len() as u32).map(|i| ElementId::Face(FaceId(i)))
+                .chain((0..part.edges().len() as u32).map(|i| ElementId::Edge(EdgeId(i))))
+                .chain((0..part.vertices().len() as u32).map(|i| ElementId::Vertex(VertexId(i))))
+                .collect()
+        };
+        let (tol, search) = (CONTACT_REL * scale, GAP_SEARCH_REL * scale);
+        let mut brute: Option<f64> = None;
+        for a in elements(fixed) {
+            for b in elements(moving) {
+                let d = scene.element_distance(&pose, a, b);
+                if d > tol && d < brute.unwrap_or(search) {
+                    brute = Some(d);
+                }
+            }
+        }
+        match (report.min_gap, brute) {
+            (Some(x), Some(y)) => prop_assert!((x - y).abs() <= 1e-12 * scale, "{x} vs {y}"),
+            (x, y) => prop_assert_eq!(x, y),
+        }
     }
 }

@@ -246,6 +246,12 @@ impl<'a> ContactScene<'a> {
         touch::distance(&self.fixed, fixed, &placed, moving)
     }
 
+    /// The fixed and the moving part.
+    #[must_use]
+    pub fn parts(&self) -> (&'a Part, &'a Part) {
+        (self.fixed.part, self.moving)
+    }
+
     /// L: the larger bounding-box diagonal of the two parts.
     #[must_use]
     pub fn scale(&self) -> f64 {
@@ -285,7 +291,9 @@ impl<'a> ContactScene<'a> {
         let mut out = Vec::new();
         self.bvh.query_pairs(&self.moving_bvh, moving_to_fixed, within, |i, j| {
             let (a, b) = (self.fixed_elements[i as usize], self.moving_elements[j as usize]);
-            if self.fixed_boxes[i as usize].gap(&moving.bounds(b)) < within {
+            if self.fixed_boxes[i as usize].gap(&moving.bounds(b)) < within
+                && !touch::apart_by_plane(&self.fixed, a, &moving, b, within)
+            {
                 let d = touch::distance(&self.fixed, a, &moving, b);
                 if d > tol && d < within {
                     out.push((a, b));
@@ -328,7 +336,10 @@ impl<'a> ContactScene<'a> {
                     return;
                 }
             }
-            if with_gap && box_gap < min_gap.unwrap_or(search) {
+            if with_gap
+                && box_gap < min_gap.unwrap_or(search)
+                && !touch::apart_by_plane(&self.fixed, a, &moving, b, min_gap.unwrap_or(search))
+            {
                 let d = touch::distance(&self.fixed, a, &moving, b);
                 if d > tol && d < min_gap.unwrap_or(search) {
                     min_gap = Some(d);

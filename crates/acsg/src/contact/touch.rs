@@ -14,7 +14,7 @@ use glam::DVec3;
 
 use super::placed::PlacedPart;
 use super::queries::{PlanarRegion, Segment, point_segment, segment_segment};
-use crate::model::{ElementId, Part};
+use crate::model::{ElementId, FaceId, Part};
 
 /// The set I(a, b) where two elements touch.
 #[derive(Clone, Debug, PartialEq)]
@@ -334,6 +334,43 @@ pub(crate) fn principal(
         })
         .map(|(a, b, _)| (*a, *b))
         .collect()
+}
+
+/// Whether a face of either element has the other element wholly more than `gap` off
+/// its plane, on one side: a cheap proof that the two are more than `gap` apart.
+pub(crate) fn apart_by_plane(
+    fixed: &PlacedPart<'_>,
+    a: ElementId,
+    moving: &PlacedPart<'_>,
+    b: ElementId,
+    gap: f64,
+) -> bool {
+    let beyond = |plane: &PlacedPart<'_>, f: FaceId, other: &PlacedPart<'_>, e: ElementId| {
+        let region = plane.region(f);
+        let side = |p: DVec3| region.normal.dot(p) - region.offset;
+        let (mut above, mut below) = (true, true);
+        let mut check = |p: DVec3| {
+            let d = side(p);
+            above &= d > gap;
+            below &= d < -gap;
+        };
+        match e {
+            ElementId::Vertex(v) => check(other.vertex(v)),
+            ElementId::Edge(x) => {
+                let s = other.segment(x);
+                check(s.a);
+                check(s.b);
+            }
+            ElementId::Face(g) => {
+                for &v in &other.part.face(g).outer().vertices {
+                    check(other.vertex(v));
+                }
+            }
+        }
+        above || below
+    };
+    matches!(a, ElementId::Face(f) if beyond(fixed, f, moving, b))
+        || matches!(b, ElementId::Face(g) if beyond(moving, g, fixed, a))
 }
 
 /// The distance between two placed elements.
