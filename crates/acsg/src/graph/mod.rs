@@ -10,6 +10,10 @@
 //!    cannot exist or is already known, and otherwise searched for with warm starts
 //!    from the parent's and the PPC's witnesses.
 //!
+//! When the growth settles, every state is also searched one contact below, from its
+//! witness (descents); what they find grows again. Neighbour edges join states one PPC
+//! apart under every mapping outcome ([`rules::grow_every`]).
+//!
 //! A state's identity is P(X) at its witness: a search that lands on a pose showing
 //! another state records that state (if new). Every witness is verified by the contact
 //! module before the state is kept. Candidates of one breadth-first level are searched
