@@ -467,7 +467,7 @@ impl<'a> Problem<'a> {
 
     /// Searches for a witness of `target` close to a known `pose` (of a state that
     /// holds it and more, say): [`Problem::find`] within small boxes around the pose,
-    /// first [`NEAR_REL`] then a hundred times that (translations relative to L, angles
+    /// first 1e-4 then a hundred times that (translations relative to L, angles
     /// in radians), clipped to the bounds. A state whose neighbours hold only next to
     /// it, at a bound, is found this way when the search over the whole bounds misses
     /// it.
