@@ -429,18 +429,28 @@ fn bad_poses_and_tolerances_are_usage_errors() {
     run(&[]).code(2).stderr(contains("--pose"));
 }
 
-#[test]
-fn a_closed_pipe_is_not_an_error() {
+/// Runs `acsg` with its stdout closed before it writes (`acsg ... | head -0`).
+fn run_with_closed_stdout(args: &[std::ffi::OsString]) -> std::process::Output {
     let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("acsg"))
-        .args(["contacts", "--json", "--pose", "0,0,0,0,0,0"])
-        .arg(fixture("l_block.off"))
-        .arg(fixture("box.off"))
+        .args(args)
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
     drop(child.stdout.take());
-    let out = child.wait_with_output().unwrap();
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn a_closed_pipe_is_not_an_error() {
+    let out = run_with_closed_stdout(&[
+        "contacts".into(),
+        "--json".into(),
+        "--pose".into(),
+        "0,0,0,0,0,0".into(),
+        fixture("l_block.off").into(),
+        fixture("box.off").into(),
+    ]);
     assert!(out.status.success());
     assert!(!String::from_utf8_lossy(&out.stderr).contains("Broken pipe"));
 }
@@ -451,18 +461,15 @@ fn a_closed_pipe_is_not_an_error() {
 fn a_closed_pipe_after_generate_keeps_the_graph_file() {
     let dir = tempfile::tempdir().unwrap();
     let output = dir.path().join("g.json");
-    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("acsg"))
-        .arg("generate")
-        .arg(fixture("slab.off"))
-        .arg(fixture("cube.off"))
-        .args(["--bounds", "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180", "-o"])
-        .arg(&output)
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    drop(child.stdout.take());
-    let out = child.wait_with_output().unwrap();
+    let out = run_with_closed_stdout(&[
+        "generate".into(),
+        fixture("slab.off").into(),
+        fixture("cube.off").into(),
+        "--bounds".into(),
+        "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180".into(),
+        "-o".into(),
+        output.clone().into(),
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&output).unwrap()).unwrap();

@@ -291,13 +291,9 @@ impl<'a> ContactScene<'a> {
         let mut out = Vec::new();
         self.bvh.query_pairs(&self.moving_bvh, moving_to_fixed, within, |i, j| {
             let (a, b) = (self.fixed_elements[i as usize], self.moving_elements[j as usize]);
-            if self.fixed_boxes[i as usize].gap(&moving.bounds(b)) < within
-                && !touch::apart_by_plane(&self.fixed, a, &moving, b, within)
-            {
-                let d = touch::distance(&self.fixed, a, &moving, b);
-                if d > tol && d < within {
-                    out.push((a, b));
-                }
+            let box_gap = self.fixed_boxes[i as usize].gap(&moving.bounds(b));
+            if self.gap_below(&moving, a, b, box_gap, tol, within).is_some() {
+                out.push((a, b));
             }
         });
         out.sort();
@@ -319,6 +315,26 @@ impl<'a> ContactScene<'a> {
         self.run(moving_to_fixed, relative_tolerance, Some(gap_search))
     }
 
+    /// The distance between a fixed and a placed moving element when it is more than
+    /// `tol` (they do not touch) and less than `limit`; `None` otherwise. The boxes'
+    /// gap (`box_gap`) and the elements' face planes rule most pairs out before the
+    /// exact distance is computed.
+    fn gap_below(
+        &self,
+        moving: &PlacedPart<'_>,
+        a: ElementId,
+        b: ElementId,
+        box_gap: f64,
+        tol: f64,
+        limit: f64,
+    ) -> Option<f64> {
+        if box_gap >= limit || touch::apart_by_plane(&self.fixed, a, moving, b, limit) {
+            return None;
+        }
+        let d = touch::distance(&self.fixed, a, moving, b);
+        (d > tol && d < limit).then_some(d)
+    }
+
     fn run(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64, gap_search: Option<f64>) -> ContactReport {
         let tol = scaled(relative_tolerance, self.scale);
         let with_gap = gap_search.is_some();
@@ -336,12 +352,8 @@ impl<'a> ContactScene<'a> {
                     return;
                 }
             }
-            if with_gap
-                && box_gap < min_gap.unwrap_or(search)
-                && !touch::apart_by_plane(&self.fixed, a, &moving, b, min_gap.unwrap_or(search))
-            {
-                let d = touch::distance(&self.fixed, a, &moving, b);
-                if d > tol && d < min_gap.unwrap_or(search) {
+            if with_gap {
+                if let Some(d) = self.gap_below(&moving, a, b, box_gap, tol, min_gap.unwrap_or(search)) {
                     min_gap = Some(d);
                 }
             }

@@ -305,32 +305,20 @@ pub fn penetration_prepared(
     moving_to_fixed: &DAffine3,
     length: f64,
 ) -> PenetrationReport {
-    let b: Vec<Hull> = moving.hulls.iter().map(|h| h.transformed(moving_to_fixed)).collect();
-    let fixed_gauss: Vec<Option<Placed<'_>>> = fixed
-        .gauss
-        .iter()
-        .map(|g| g.as_ref().map(|g| g.placed(&DAffine3::IDENTITY)))
-        .collect();
-    let mut moving_gauss: Vec<Option<Placed<'_>>> = vec![None; moving.gauss.len()];
+    let mut pieces = PiecesAtPose::new(fixed, moving, moving_to_fixed);
     let margin = scaled(SEPARATION_REL, length);
     let mut report = PenetrationReport {
         depth: f64::NEG_INFINITY,
         pieces: None,
         certificates: Vec::new(),
     };
-    for (i, ha) in fixed.hulls.iter().enumerate() {
-        for (j, hb) in b.iter().enumerate() {
-            let gap = ha.box_gap(hb);
+    for i in 0..fixed.hulls.len() {
+        for j in 0..moving.hulls.len() {
+            let gap = pieces.box_gap(i, j);
             let depth = if gap > margin {
                 -gap
             } else {
-                let s = match (&fixed_gauss[i], &moving.gauss[j]) {
-                    (Some(ga), Some(gb)) => {
-                        let gb = moving_gauss[j].get_or_insert_with(|| gb.placed(moving_to_fixed));
-                        gauss::separate(ga, gb, false)
-                    }
-                    _ => separate(ha, hb, false),
-                };
+                let s = pieces.separate(i, j, false);
                 report.certificates.push((i, j, s.axis, s.offset));
                 s.depth
             };
@@ -348,25 +336,57 @@ pub fn penetration_prepared(
 /// dropped at its first separating axis), for the optimiser's residual.
 #[must_use]
 pub fn penetration_excess(fixed: &PreparedPieces, moving: &PreparedPieces, moving_to_fixed: &DAffine3) -> f64 {
-    let b: Vec<Hull> = moving.hulls.iter().map(|h| h.transformed(moving_to_fixed)).collect();
-    let mut moving_gauss: Vec<Option<Placed<'_>>> = vec![None; moving.gauss.len()];
+    let mut pieces = PiecesAtPose::new(fixed, moving, moving_to_fixed);
     let mut excess: f64 = 0.0;
-    for (i, ha) in fixed.hulls.iter().enumerate() {
-        for (j, hb) in b.iter().enumerate() {
-            if ha.box_gap(hb) > 0.0 {
-                continue;
+    for i in 0..fixed.hulls.len() {
+        for j in 0..moving.hulls.len() {
+            if pieces.box_gap(i, j) <= 0.0 {
+                excess = excess.max(pieces.separate(i, j, true).depth);
             }
-            let s = match (&fixed.gauss[i], &moving.gauss[j]) {
-                (Some(ga), Some(gb)) => {
-                    let gb = moving_gauss[j].get_or_insert_with(|| gb.placed(moving_to_fixed));
-                    gauss::separate(&ga.placed(&DAffine3::IDENTITY), gb, true)
-                }
-                _ => separate(ha, hb, true),
-            };
-            excess = excess.max(s.depth);
         }
     }
     excess
+}
+
+/// Both parts' pieces with the moving part placed: hulls moved once, Gauss-map views
+/// placed when first needed.
+struct PiecesAtPose<'p> {
+    fixed: &'p PreparedPieces,
+    moving: &'p PreparedPieces,
+    moving_to_fixed: DAffine3,
+    moved: Vec<Hull>,
+    fixed_gauss: Vec<Option<Placed<'p>>>,
+    moving_gauss: Vec<Option<Placed<'p>>>,
+}
+
+impl<'p> PiecesAtPose<'p> {
+    fn new(fixed: &'p PreparedPieces, moving: &'p PreparedPieces, moving_to_fixed: &DAffine3) -> PiecesAtPose<'p> {
+        PiecesAtPose {
+            fixed,
+            moving,
+            moving_to_fixed: *moving_to_fixed,
+            moved: moving.hulls.iter().map(|h| h.transformed(moving_to_fixed)).collect(),
+            fixed_gauss: vec![None; fixed.gauss.len()],
+            moving_gauss: vec![None; moving.gauss.len()],
+        }
+    }
+
+    /// The gap between the boxes of fixed piece `i` and moving piece `j`.
+    fn box_gap(&self, i: usize, j: usize) -> f64 {
+        self.fixed.hulls[i].box_gap(&self.moved[j])
+    }
+
+    /// SAT on fixed piece `i` and moving piece `j`: by Gauss maps when both have one.
+    fn separate(&mut self, i: usize, j: usize, until_separated: bool) -> Separation {
+        match (&self.fixed.gauss[i], &self.moving.gauss[j]) {
+            (Some(ga), Some(gb)) => {
+                let ga = self.fixed_gauss[i].get_or_insert_with(|| ga.placed(&DAffine3::IDENTITY));
+                let gb = self.moving_gauss[j].get_or_insert_with(|| gb.placed(&self.moving_to_fixed));
+                gauss::separate(ga, gb, until_separated)
+            }
+            _ => separate(&self.fixed.hulls[i], &self.moved[j], until_separated),
+        }
+    }
 }
 
 #[cfg(test)]

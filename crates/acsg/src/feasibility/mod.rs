@@ -18,7 +18,7 @@ mod solver;
 
 use glam::{DAffine3, DVec3};
 
-use crate::contact::{ContactKind, ContactScene, PrincipalContact};
+use crate::contact::{ContactKind, ContactReport, ContactScene, PrincipalContact};
 use crate::model::{ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
@@ -377,16 +377,31 @@ impl<'a> Problem<'a> {
     /// apart. Empty for a clean pose in free space.
     #[must_use]
     pub fn clean_state(&self, pose: &Pose) -> Option<Vec<PrincipalContact>> {
+        self.inspect(pose)
+            .filter(|report| self.is_clean(report))
+            .map(|report| report.contacts)
+    }
+
+    /// The contact report at a pose inside the bounds (`None` outside), with the
+    /// smallest gap searched only as far as a witness check needs.
+    fn inspect(&self, pose: &Pose) -> Option<ContactReport> {
         let angle_tol = 1e-12;
-        if !self.bounds.contains(pose, scaled(CONTACT_REL, self.scale), angle_tol) {
-            return None;
-        }
-        let separation = scaled(SEPARATION_REL, self.scale);
-        let report = self
-            .scene
-            .evaluate_within(&self.placement(pose), CONTACT_REL, 2.0 * separation);
-        let clear = report.min_gap.is_none_or(|g| g >= separation);
-        (report.penetration == 0.0 && clear).then_some(report.contacts)
+        self.bounds
+            .contains(pose, scaled(CONTACT_REL, self.scale), angle_tol)
+            .then(|| {
+                self.scene
+                    .evaluate_within(&self.placement(pose), CONTACT_REL, 2.0 * self.separation())
+            })
+    }
+
+    /// No penetration, and every pair that does not touch at least the separation
+    /// tolerance apart.
+    fn is_clean(&self, report: &ContactReport) -> bool {
+        report.penetration == 0.0 && report.min_gap.is_none_or(|g| g >= self.separation())
+    }
+
+    fn separation(&self) -> f64 {
+        scaled(SEPARATION_REL, self.scale)
     }
 
     /// The contact state a pose witnesses: [`Problem::clean_state`] with some contact.
@@ -473,6 +488,9 @@ impl<'a> Problem<'a> {
     /// it.
     pub fn find_near(&self, target: &[PrincipalContact], pose: Pose, stats: &mut SearchStats) -> Search {
         let mut others = Vec::new();
+        let Some(anchor) = target.first() else {
+            return Search::NotFound { others };
+        };
         for size in [NEAR_REL, 100.0 * NEAR_REL] {
             let x = pose.to_array();
             let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
@@ -482,7 +500,7 @@ impl<'a> Problem<'a> {
             let Ok(local) = Bounds::try_new(local_lo, local_hi) else {
                 continue;
             };
-            match self.find_within(target, &[pose], &target[0], 2, &local, stats) {
+            match self.find_within(target, &[pose], anchor, 2, &local, stats) {
                 Search::Found(found) => return Search::Found(found),
                 Search::NotFound { others: seen } => others.extend(seen),
                 Search::Unreachable => {}
@@ -520,16 +538,20 @@ impl<'a> Problem<'a> {
         for start in starts {
             stats.optimisations += 1;
             let pose = self.solve(target, start, bounds);
-            let state = match self.verify(&pose) {
-                Some(state) if state == target => return Search::Found(pose),
-                Some(state) => state,
-                None => {
-                    if let Some(cleared) = self.clear(target, pose, bounds, stats) {
-                        return Search::Found(cleared);
-                    }
-                    continue;
+            let Some(report) = self.inspect(&pose) else { continue };
+            if !self.is_clean(&report) {
+                if let Some(cleared) = self.clear(target, pose, &report, bounds, stats) {
+                    return Search::Found(cleared);
                 }
-            };
+                continue;
+            }
+            let state = report.contacts;
+            if state.is_empty() {
+                continue;
+            }
+            if state == target {
+                return Search::Found(pose);
+            }
             if is_strict_superset(&state, target) {
                 // The target held, with more contacts: push those apart from here.
                 if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
@@ -547,23 +569,28 @@ impl<'a> Problem<'a> {
     /// but some other pair of elements is closer than a witness allows (the optimiser
     /// stops where non-penetration becomes active, i.e. at contact, not at clearance):
     /// one optimisation that pushes those pairs apart; the witness if it verifies.
-    fn clear(&self, target: &[PrincipalContact], pose: Pose, bounds: &Bounds, stats: &mut SearchStats) -> Option<Pose> {
-        let placement = self.placement(&pose);
-        let report = self
-            .scene
-            .evaluate_within(&placement, CONTACT_REL, 2.0 * scaled(SEPARATION_REL, self.scale));
+    fn clear(
+        &self,
+        target: &[PrincipalContact],
+        pose: Pose,
+        report: &ContactReport,
+        bounds: &Bounds,
+        stats: &mut SearchStats,
+    ) -> Option<Pose> {
         let holds = report.penetration == 0.0 && target.iter().all(|pc| report.contacts.binary_search(pc).is_ok());
-        if !holds || !self.bounds.contains(&pose, scaled(CONTACT_REL, self.scale), 1e-12) {
+        if !holds {
             return None;
         }
-        let separation = scaled(SEPARATION_REL, self.scale);
         let mut extra: Vec<(ElementId, ElementId)> = report
             .contacts
             .iter()
             .filter(|pc| !target.contains(pc))
             .map(|pc| (pc.fixed, pc.moving))
             .collect();
-        extra.extend(self.scene.close_pairs(&placement, CONTACT_REL, 2.0 * separation));
+        extra.extend(
+            self.scene
+                .close_pairs(&self.placement(&pose), CONTACT_REL, 2.0 * self.separation()),
+        );
         if extra.is_empty() {
             return None;
         }

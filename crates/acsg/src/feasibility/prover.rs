@@ -355,27 +355,22 @@ impl<'a> Prover<'a> {
         }
         // Only the (vertex, piece) pairs whose boxes meet can ever constrain `t` (it
         // only shrinks): a vertex outside a piece's box is outside the piece.
-        let meets =
-            |p: IVec, (lo, hi): (IVec, IVec)| (0..3).all(|k| p[k].hi >= lo[k].lo - s && p[k].lo <= hi[k].hi + s);
-        let fixed_boxes: Vec<(IVec, IVec)> = self
-            .a
-            .piece_boxes
-            .iter()
-            .map(|&(lo, hi)| (point(lo), point(hi)))
-            .collect();
+        let meets = |p: IVec, (lo, hi): (DVec3, DVec3)| (0..3).all(|k| p[k].hi >= lo[k] - s && p[k].lo <= hi[k] + s);
+        let fixed_boxes = &self.a.piece_boxes;
         let moving_vs_fixed: Vec<(usize, usize)> = (0..moved.len())
             .flat_map(|i| (0..fixed_boxes.len()).map(move |j| (i, j)))
             .filter(|&(i, j)| meets(add(moved[i], t), fixed_boxes[j]))
             .collect();
-        let turned_boxes: Vec<(IVec, IVec)> = self
+        // The moving part's piece boxes turned by the rotation enclosure.
+        let turned_boxes: Vec<(DVec3, DVec3)> = self
             .b
             .piece_boxes
             .iter()
             .map(|&b| {
                 let turned = mat_box(&r, b);
                 (
-                    turned.map(|i| Interval::point(i.lo)),
-                    turned.map(|i| Interval::point(i.hi)),
+                    DVec3::from_array(turned.map(|i| i.lo)),
+                    DVec3::from_array(turned.map(|i| i.hi)),
                 )
             })
             .collect();
