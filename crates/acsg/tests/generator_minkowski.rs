@@ -29,6 +29,8 @@ use glam::{DAffine3, DVec3};
 /// far below the facet's plane, and every vertex of a part not in a supporting feature
 /// at least this far behind it.
 const GAP_REL: f64 = 1e-3;
+/// [`GAP_REL`] for parts of 16 to 20 points.
+const LARGE_GAP_REL: f64 = 2e-4;
 /// The box is shrunk and grown by this (relative to L); a configuration where some face
 /// of M meets the one and not the other is rejected.
 const MARGIN_REL: f64 = 1e-4;
@@ -139,13 +141,60 @@ fn order_around(mut points: Vec<DVec3>, normal: DVec3) -> Vec<DVec3> {
 
 /// The face lattice of M = hull{a − b} with each face's principal contact, or `None`
 /// when the parts are not in general position.
-fn minkowski(a: &Part, b: &Part) -> Option<Minkowski> {
+/// The facets of the hull of `diff` = {a - b}: every facet normal of A ⊕ (−B) is a
+/// facet normal of A or of B (up to sign) or the cross product of an edge of each, so
+/// only those directions are tried (the brute-force hull of all differences is too slow
+/// for parts of 20 points). A direction gives a facet when at least three
+/// non-collinear differences reach its support value.
+fn difference_facets(va: &[DVec3], vb: &[DVec3], diff: &[DVec3], tiny: f64) -> Vec<(DVec3, f64, Vec<usize>)> {
+    let normals_and_edges = |points: &[DVec3]| {
+        let facets = hull_facets(points, tiny);
+        let normals: Vec<DVec3> = facets.iter().map(|(n, _, _)| *n).collect();
+        let mut edges = Vec::new();
+        for (i, (_, _, on)) in facets.iter().enumerate() {
+            for (_, _, other) in &facets[i + 1..] {
+                let shared: Vec<usize> = on.iter().copied().filter(|k| other.contains(k)).collect();
+                if let [p, q] = shared[..] {
+                    edges.push((points[q] - points[p]).normalize());
+                }
+            }
+        }
+        (normals, edges)
+    };
+    let (na, ea) = normals_and_edges(va);
+    let (nb, eb) = normals_and_edges(vb);
+    let mut directions: Vec<DVec3> = na.iter().chain(&nb).copied().collect();
+    for &x in &ea {
+        for &y in &eb {
+            if let Some(c) = x.cross(y).try_normalize() {
+                directions.push(c);
+            }
+        }
+    }
+    let mut facets: Vec<(DVec3, f64, Vec<usize>)> = Vec::new();
+    for n in directions.into_iter().flat_map(|d| [d, -d]) {
+        let offset = diff.iter().map(|p| n.dot(*p)).fold(f64::NEG_INFINITY, f64::max);
+        let on: Vec<usize> = (0..diff.len()).filter(|&i| n.dot(diff[i]) >= offset - tiny).collect();
+        let spans_plane = on.iter().any(|&i| {
+            on.iter().any(|&j| {
+                on.iter()
+                    .any(|&k| (diff[j] - diff[i]).cross(diff[k] - diff[i]).length() > tiny)
+            })
+        });
+        if spans_plane && !facets.iter().any(|(m, _, _)| m.distance(n) < 1e-9) {
+            facets.push((n, offset, on));
+        }
+    }
+    facets
+}
+
+fn minkowski(a: &Part, b: &Part, gap_rel: f64) -> Option<Minkowski> {
     let scale = a.bounds().diagonal().max(b.bounds().diagonal());
-    let (tiny, gap) = (1e-9 * scale, GAP_REL * scale);
+    let (tiny, gap) = (1e-9 * scale, gap_rel * scale);
     let va: Vec<DVec3> = a.vertices().iter().map(|v| v.position).collect();
     let vb: Vec<DVec3> = b.vertices().iter().map(|v| v.position).collect();
     let diff: Vec<DVec3> = va.iter().flat_map(|&p| vb.iter().map(move |&q| p - q)).collect();
-    let hull = hull_facets(&diff, tiny);
+    let hull = difference_facets(&va, &vb, &diff, tiny);
     for (n, d, on) in &hull {
         if !matches!(on.len(), 3 | 4) {
             return None;
@@ -199,7 +248,7 @@ fn minkowski(a: &Part, b: &Part) -> Option<Minkowski> {
                 0 | 1 => {}
                 2 => {
                     let (p, q) = (diff[shared[0]], diff[shared[1]]);
-                    if p.distance(q) < 10.0 * gap || planes[k].0.distance(planes[l].0) < GAP_REL {
+                    if p.distance(q) < 10.0 * gap || planes[k].0.distance(planes[l].0) < gap_rel {
                         return None;
                     }
                     faces.push(make(1, vec![p, q], vec![k, l])?);
@@ -303,23 +352,48 @@ fn point_inside(face: &MFace, lo: DVec3, hi: DVec3, margin: f64) -> DVec3 {
         .expect("a candidate")
 }
 
-/// The configurations: `PART_SEEDS` pairs of random convex parts, each with
-/// `BOXES_PER_PARTS` random translation boxes across the boundary of M.
-fn configurations() -> Vec<Config> {
+/// How many random points span each part, and how many faces each hull must have.
+struct Sizes {
+    points: (usize, usize),
+    /// The general-position gap (relative to L): many points make near-degenerate
+    /// differences likely, so large parts are accepted with a smaller gap.
+    gap_rel: f64,
+    faces: (std::ops::RangeInclusive<usize>, std::ops::RangeInclusive<usize>),
+}
+
+/// Small parts: 8 and 7 points (at most 12 and 10 faces).
+fn small() -> Sizes {
+    Sizes {
+        points: (8, 7),
+        gap_rel: GAP_REL,
+        faces: (4..=usize::MAX, 4..=usize::MAX),
+    }
+}
+
+/// The contact module compares convex pieces of more than 24 faces through their
+/// Gauss maps, and a large piece against a small one by plain SAT: both paths.
+const LARGE_PIECE: usize = 25;
+
+/// The configurations: `part_seeds` pairs of random convex parts of the given sizes,
+/// each with `BOXES_PER_PARTS` random translation boxes across the boundary of M.
+fn configurations_of(sizes: Sizes, part_seeds: usize) -> Vec<Config> {
     let mut configs = Vec::new();
     let mut parts_found = 0;
     for s in 1u64.. {
-        if parts_found == PART_SEEDS {
+        if parts_found == part_seeds {
             break;
         }
-        assert!(s < 200, "too few configurations in general position");
+        assert!(s < 400, "too few configurations in general position");
         let seed = s.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        let pa = random_points(seed, 8, 1.0);
-        let pb = random_points(seed.rotate_left(17) ^ 0x5555, 7, 0.7);
+        let pa = random_points(seed, sizes.points.0, 1.0);
+        let pb = random_points(seed.rotate_left(17) ^ 0x5555, sizes.points.1, 0.7);
         let (Some(a), Some(b)) = (convex_part(&pa, "A"), convex_part(&pb, "B")) else {
             continue;
         };
-        let Some(m) = minkowski(&a, &b) else {
+        if !sizes.faces.0.contains(&a.faces().len()) || !sizes.faces.1.contains(&b.faces().len()) {
+            continue;
+        }
+        let Some(m) = minkowski(&a, &b, sizes.gap_rel) else {
             continue;
         };
         let margin = MARGIN_REL * m.scale;
@@ -370,6 +444,10 @@ fn configurations() -> Vec<Config> {
         }
     }
     configs
+}
+
+fn configurations() -> Vec<Config> {
+    configurations_of(small(), PART_SEEDS)
 }
 
 fn describe(contacts: &[PrincipalContact]) -> String {
@@ -478,20 +556,47 @@ fn witness_problem(m: &Minkowski, face: &MFace, bounds: &Bounds, pose: &Pose) ->
 
 #[test]
 fn generator_states_are_the_faces_of_the_minkowski_difference() {
-    check_generator(&[false]);
+    check_generator(&configurations(), &[false]);
+}
+
+/// Parts of more than 24 faces: a large part against a small one (plain SAT with the
+/// large piece's axes) and two large parts (Gauss maps), in both roles.
+#[test]
+fn large_parts_give_the_faces_of_the_minkowski_difference() {
+    let (large, small) = (LARGE_PIECE..=usize::MAX, 4..=LARGE_PIECE - 1);
+    let mut configs = Vec::new();
+    for sizes in [
+        Sizes {
+            points: (16, 7),
+            gap_rel: LARGE_GAP_REL,
+            faces: (large.clone(), small.clone()),
+        },
+        Sizes {
+            points: (7, 16),
+            gap_rel: LARGE_GAP_REL,
+            faces: (small, large.clone()),
+        },
+        Sizes {
+            points: (16, 16),
+            gap_rel: LARGE_GAP_REL,
+            faces: (large.clone(), large),
+        },
+    ] {
+        configs.extend(configurations_of(sizes, 2));
+    }
+    check_generator(&configs, &[false]);
 }
 
 /// With degenerate states kept, the edges and vertices of M must appear too.
 #[test]
 fn with_degenerate_states_the_edges_and_vertices_of_the_minkowski_difference_appear_too() {
-    check_generator(&[true]);
+    check_generator(&configurations(), &[true]);
 }
 
 /// Runs the generator on every configuration, with each `degenerate` setting given.
-fn check_generator(settings: &[bool]) {
-    let configs = configurations();
+fn check_generator(configs: &[Config], settings: &[bool]) {
     let mut failures = Vec::new();
-    for config in &configs {
+    for config in configs {
         let m = &config.m;
         let (lo, hi) = (config.lo, config.hi);
         let bounds = Bounds::try_new([lo.x, lo.y, lo.z, 0.0, 0.0, 0.0], [hi.x, hi.y, hi.z, 0.0, 0.0, 0.0])

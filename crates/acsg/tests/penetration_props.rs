@@ -3,6 +3,8 @@
 //! containment, the separating planes themselves, projections on random directions,
 //! symmetry of the two roles, and translations along the reported axis.
 
+mod common;
+
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -199,6 +201,51 @@ proptest! {
         let s = convex_separation(&a, &b, &pose);
         prop_assert!(s.depth >= 2.0 * hb.min_element() - 1e-9, "depth {}", s.depth);
         prop_assert!(s.depth > 0.0);
+    }
+}
+
+/// A convex part with more than 24 faces (compared through its Gauss map against
+/// another large piece) and one with fewer, both from the brute-force hull.
+fn large_and_small_convex_parts() -> &'static (Part, Part) {
+    static PARTS: OnceLock<(Part, Part)> = OnceLock::new();
+    PARTS.get_or_init(|| {
+        let part = |seed: u64, count: usize, radius: f64, min_faces: usize, max_faces: usize| {
+            (seed..seed + 200)
+                .find_map(|s| {
+                    common::hull::convex_part(&common::hull::random_points(s, count, radius), "random")
+                        .filter(|p| (min_faces..=max_faces).contains(&p.faces().len()))
+                })
+                .expect("a random hull in general position")
+        };
+        (part(11, 20, 1.0, 25, usize::MAX), part(97, 9, 0.7, 4, 24))
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// A piece of more than 24 faces against one of at most 24 (the mixed pair, plain
+    /// SAT on the prepared hulls) gives the depth of the plain SAT on the polytopes,
+    /// which tests every face normal and edge pair of both.
+    #[test]
+    fn large_against_small_pieces_match_the_plain_sat(
+        t in vec3(-2.0, 2.0),
+        q in rotation(),
+        swap in prop::bool::ANY,
+    ) {
+        let (large, small) = large_and_small_convex_parts();
+        let (a, b) = if swap { (small, large) } else { (large, small) };
+        let pose = DAffine3::from_rotation_translation(q, t);
+        let report = penetration(a, b, &pose);
+        let plain = convex_separation(&a.convex_pieces()[0], &b.convex_pieces()[0], &pose);
+        let l = 2.0;
+        if plain.depth > -1e-6 * l {
+            prop_assert!((report.depth - plain.depth).abs() <= 1e-9 * l, "{} vs plain {}", report.depth, plain.depth);
+        } else {
+            prop_assert!(report.depth < 0.0, "apart by {} yet {}", plain.depth, report.depth);
+        }
+        let excess = ContactScene::new(a, b).penetration_excess(&pose);
+        prop_assert!((excess - plain.depth.max(0.0)).abs() <= 1e-9 * l, "excess {} vs plain {}", excess, plain.depth);
     }
 }
 

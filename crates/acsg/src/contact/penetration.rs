@@ -92,14 +92,14 @@ struct Hull {
 impl Hull {
     /// The polytope, mapped by `transform` when given (normals by the inverse transpose,
     /// so a non-rigid but invertible map is also handled).
-    fn new(polytope: &ConvexPolytope, transform: Option<&DAffine3>, with_directions: bool) -> Hull {
+    fn new(polytope: &ConvexPolytope, transform: Option<&DAffine3>) -> Hull {
         let normal_matrix = transform.map(|t| t.matrix3.inverse().transpose());
         let point = |p: DVec3| transform.map_or(p, |t| t.transform_point3(p));
         let vector = |v: DVec3| transform.map_or(v, |t| t.transform_vector3(v));
         let vertices: Vec<DVec3> = polytope.vertices().iter().map(|&p| point(p)).collect();
         let mut normals = Vec::new();
         let mut edges = Vec::new();
-        for face in polytope.faces().iter().filter(|_| with_directions) {
+        for face in polytope.faces() {
             push_direction(&mut normals, normal_matrix.map_or(face.normal, |m| m * face.normal));
             let n = face.points.len();
             for (i, &p) in face.points.iter().enumerate() {
@@ -240,7 +240,7 @@ fn separate(a: &Hull, b: &Hull, until_separated: bool) -> Separation {
 /// ```
 #[must_use]
 pub fn convex_separation(a: &ConvexPolytope, b: &ConvexPolytope, b_to_a: &DAffine3) -> Separation {
-    separate(&Hull::new(a, None, true), &Hull::new(b, Some(b_to_a), true), false)
+    separate(&Hull::new(a, None), &Hull::new(b, Some(b_to_a)), false)
 }
 
 /// Pieces with more faces than this are compared over the facets of the Minkowski
@@ -269,12 +269,10 @@ impl PreparedPieces {
                     .flatten()
             })
             .collect();
-        // Large pieces need no direction lists: only their vertices and box.
-        let hulls = pieces
-            .iter()
-            .zip(&gauss)
-            .map(|(p, g)| Hull::new(p, None, g.is_none()))
-            .collect();
+        // Every hull keeps its face normals and edge directions, large ones too: a large
+        // piece against a small one (no Gauss map) goes through the plain SAT, which
+        // needs both pieces' axes.
+        let hulls = pieces.iter().map(|p| Hull::new(p, None)).collect();
         PreparedPieces { hulls, gauss }
     }
 }
