@@ -391,7 +391,7 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
     let _ = writeln!(
         out,
         "stage 2  {} pairs: {} implied, {} topology, {} degenerate, {} duplicate, {} ruled out without optimising; \
-         {} candidates, {} searched by optimisation ({} local runs, {} below known states), {} infeasible, \
+         {} candidates, {} searched by optimisation ({} local runs, {} below known states), \
          {} found on the way, {:.3} s",
         s.stage2_pairs,
         s.pruned_implied,
@@ -403,7 +403,6 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
         s.stage2_searched,
         s.stage2_optimisations,
         s.descents,
-        s.infeasible,
         s.found_on_the_way,
         s.stage2_seconds
     );
@@ -411,6 +410,22 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
         out,
         "graph    {} states (free space included), {} edges",
         s.states, s.edges
+    );
+    let _ = writeln!(
+        out,
+        "complete {}",
+        if graph.is_complete() {
+            format!(
+                "yes: each of the {} candidates met was witnessed ({}) or proved infeasible ({})",
+                s.candidates, s.witnessed, s.infeasible
+            )
+        } else {
+            format!(
+                "NO: {} of {} candidates undecided (neither witnessed nor proved infeasible; the graph may lack \
+                 these states, listed under \"undecided\" in the JSON)",
+                s.undecided, s.candidates
+            )
+        }
     );
     let mut table: std::collections::BTreeMap<(usize, u8), usize> = std::collections::BTreeMap::new();
     for state in &graph.states {

@@ -218,6 +218,12 @@ fn face_face(f: &PlanarRegion<'_>, g: &PlanarRegion<'_>, tol: f64) -> Option<Tou
                     break;
                 }
             }
+            // Clipping can leave two corners a rounding apart: an edge that short has
+            // no direction, and the coverage test would read it as a half-plane.
+            poly.dedup_by(|q, p| p.distance(*q) <= tol);
+            if poly.len() > 1 && poly[0].distance(poly[poly.len() - 1]) <= tol {
+                poly.pop();
+            }
             if poly.len() >= 3 && inradius_bound(&poly, normal) > tol {
                 pieces.push(poly);
             }

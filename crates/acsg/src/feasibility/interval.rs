@@ -1,7 +1,4 @@
-//! Interval arithmetic for conservative reach tests: where can a point of the moving
-//! part be, over every pose in the bounds?
-
-use glam::DVec3;
+//! Interval arithmetic for conservative tests over boxes of poses.
 
 use crate::pose::Bounds;
 
@@ -142,51 +139,33 @@ pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
     mat_mul(&mat_mul(&rz, &ry), &rx)
 }
 
-/// A box holding `R p + t` for every pose in the bounds (with an identity assembled
-/// pose), computed once per bounds and applied to many points.
-#[derive(Clone, Debug)]
-pub(crate) struct ReachBox {
-    rotation: IntervalMat,
-    translation: [Interval; 3],
-}
-
-impl ReachBox {
-    pub fn new(bounds: &Bounds) -> ReachBox {
-        ReachBox {
-            rotation: rotation_enclosure(bounds),
-            translation: [
-                Interval::new(bounds.min.x, bounds.max.x),
-                Interval::new(bounds.min.y, bounds.max.y),
-                Interval::new(bounds.min.z, bounds.max.z),
-            ],
-        }
-    }
-
-    /// The box of a point of the moving part over all poses: (min corner, max corner).
-    pub fn of(&self, p: DVec3) -> (DVec3, DVec3) {
-        let mut lo = DVec3::ZERO;
-        let mut hi = DVec3::ZERO;
-        for i in 0..3 {
-            let row = &self.rotation[i];
-            let v = (0..3).fold(self.translation[i], |acc, k| acc.add(row[k].mul(Interval::point(p[k]))));
-            lo[i] = v.lo;
-            hi[i] = v.hi;
-        }
-        (lo, hi)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::pose::Pose;
+    use glam::DVec3;
+
+    /// The box holding `R p + t` over the bounds.
+    fn reach(bounds: &Bounds, p: DVec3) -> (DVec3, DVec3) {
+        let r = rotation_enclosure(bounds);
+        let t = [
+            Interval::new(bounds.min.x, bounds.max.x),
+            Interval::new(bounds.min.y, bounds.max.y),
+            Interval::new(bounds.min.z, bounds.max.z),
+        ];
+        let v: [Interval; 3] =
+            std::array::from_fn(|i| (0..3).fold(t[i], |acc, k| acc.add(r[i][k].mul(Interval::point(p[k])))));
+        (
+            DVec3::new(v[0].lo, v[1].lo, v[2].lo),
+            DVec3::new(v[0].hi, v[1].hi, v[2].hi),
+        )
+    }
 
     #[test]
     fn reach_boxes_enclose_sampled_poses() {
         let bounds = Bounds::try_new([-1.0, -2.0, 0.0, -0.3, -0.2, -1.5], [1.0, 2.0, 5.0, 0.4, 0.6, 2.5]).unwrap();
-        let reach = ReachBox::new(&bounds);
         let p = DVec3::new(3.0, -4.0, 7.0);
-        let (lo, hi) = reach.of(p);
+        let (lo, hi) = reach(&bounds, p);
         let mut state = 0x9e37_79b9_u64;
         let mut next = || {
             state ^= state << 13;
@@ -210,7 +189,7 @@ mod tests {
         // With the angles fixed, interval arithmetic is exact: the box is the point
         // plus the translation box.
         let fixed = Bounds::try_new([-1.0, -2.0, 0.0, 0.3, -0.2, 1.1], [1.0, 2.0, 5.0, 0.3, -0.2, 1.1]).unwrap();
-        let (flo, fhi) = ReachBox::new(&fixed).of(p);
+        let (flo, fhi) = reach(&fixed, p);
         let q = Pose::from_array([0.0, 0.0, 0.0, 0.3, -0.2, 1.1]).rotation() * p;
         assert!(flo.distance(q + DVec3::new(-1.0, -2.0, 0.0)) < 1e-12, "{flo}");
         assert!(fhi.distance(q + DVec3::new(1.0, 2.0, 5.0)) < 1e-12, "{fhi}");

@@ -11,10 +11,12 @@
 //! 3. verification of every pose found by the contact module: P(X) must equal the state
 //!    asked for, with no penetration. A pose showing another state is reported as such.
 
+mod decide;
 mod interval;
 mod prover;
 mod residual;
 mod solver;
+mod turns;
 
 use glam::{DAffine3, DVec3};
 
@@ -23,6 +25,9 @@ use crate::model::{ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 use residual::{FaceShape, Margins, Side};
+
+pub(crate) use decide::Starts;
+pub use decide::{Decided, Decision, Proof, Rule};
 
 /// Every primitive principal contact (DOMAIN.md section 3): faces of the fixed part
 /// against convex vertices of the moving part (f-v), convex edges against convex edges
@@ -89,6 +94,8 @@ pub struct SearchStats {
     pub incompatible: usize,
     /// Local optimisations run.
     pub optimisations: usize,
+    /// Boxes of poses examined by the branch and prune of decisions.
+    pub boxes: usize,
 }
 
 /// A fixed and a moving part with misalignment bounds: the setting of every search.
@@ -102,6 +109,9 @@ pub struct Problem<'a> {
     moving_faces: Vec<FaceShape>,
     prover: prover::Prover<'a>,
     scale: f64,
+    /// The farthest vertex of the moving part from its frame's origin: how far a unit
+    /// turn moves a point of it at most.
+    moving_radius: f64,
 }
 
 impl<'a> Problem<'a> {
@@ -121,6 +131,11 @@ impl<'a> Problem<'a> {
             prover: prover::Prover::new(fixed, moving, &assembled, scale),
             scene,
             scale,
+            moving_radius: moving
+                .vertices()
+                .iter()
+                .map(|v| v.position.length())
+                .fold(0.0, f64::max),
         }
     }
 
@@ -224,10 +239,8 @@ impl<'a> Problem<'a> {
         if !self.rigidly_compatible(target) {
             return Err(Exclusion::Incompatible);
         }
-        let orientable = |bounds: &Bounds| {
-            let enclosure = Enclosure::new(bounds);
-            target.iter().all(|pc| self.orientable(pc, &enclosure))
-        };
+        let turns = self.turns(target);
+        let orientable = |bounds: &Bounds| turns.may_hold(bounds);
         if !orientable(bounds) {
             return Err(Exclusion::Misoriented);
         }
@@ -243,102 +256,6 @@ impl<'a> Problem<'a> {
                 }))
             })
             .collect())
-    }
-
-    /// Whether some rotation in the bounds can put each part on the outer side of the
-    /// other's face at a contact involving a face: the other part's edges leaving the
-    /// contact must be able to point out of the face, its edges in the contact to lie
-    /// along the face, and a face in contact to face the other way. Conservative
-    /// (interval arithmetic over the rotation bounds): `false` proves infeasibility.
-    fn orientable(&self, pc: &PrincipalContact, enclosure: &Enclosure) -> bool {
-        let slack = 1e-9;
-        // The enclosures are of R in G's frame: the fixed part's directions go there.
-        let to_g = |d: DVec3| self.prover.fixed_direction(d);
-        // n · (R d) over the bounds, for n in A's frame and d in B's frame.
-        let range = |n: DVec3, d: DVec3| {
-            let (lo, hi) = enclosure.turn.of(d);
-            let (mut min, mut max) = (0.0, 0.0);
-            for k in 0..3 {
-                let (a, b) = (n[k] * lo[k], n[k] * hi[k]);
-                min += a.min(b);
-                max += a.max(b);
-            }
-            (min, max)
-        };
-        let spans_zero = |(min, max): (f64, f64)| min <= slack && max >= -slack;
-        let leaving = |part: &Part, e: ElementId| -> Vec<DVec3> {
-            let inside = part.closure_vertices(e);
-            inside
-                .iter()
-                .flat_map(|&v| {
-                    part.vertex(v).edges.iter().filter_map(move |&x| {
-                        let [a, b] = part.edge(x).vertices;
-                        let w = if a == v { b } else { a };
-                        (!part.in_closure(e, ElementId::Edge(x)))
-                            .then(|| (part.vertex(w).position - part.vertex(v).position).normalize())
-                    })
-                })
-                .collect()
-        };
-        let within = |part: &Part, e: ElementId| -> Vec<DVec3> {
-            part.closure_edges(e)
-                .into_iter()
-                .map(|x| {
-                    let [a, b] = part.edge_points(x);
-                    (b - a).normalize()
-                })
-                .collect()
-        };
-        match (pc.fixed, pc.moving) {
-            (ElementId::Face(f), b) => {
-                let n = to_g(self.fixed.face(f).normal);
-                let out_ok = leaving(self.moving, b).into_iter().all(|d| range(n, d).1 >= -slack);
-                let along_ok = within(self.moving, b).into_iter().all(|d| spans_zero(range(n, d)));
-                let facing_ok = match b {
-                    ElementId::Face(g) => range(n, self.moving.face(g).normal).0 <= -1.0 + slack,
-                    _ => true,
-                };
-                out_ok && along_ok && facing_ok
-            }
-            (a, ElementId::Face(g)) => {
-                // In B's frame: A's directions d against R n_g, i.e. d · (R n_g).
-                let n = self.moving.face(g).normal;
-                let out_ok = leaving(self.fixed, a)
-                    .into_iter()
-                    .all(|d| range(to_g(d), n).1 >= -slack);
-                let along_ok = within(self.fixed, a).into_iter().all(|d| spans_zero(range(to_g(d), n)));
-                out_ok && along_ok
-            }
-            (ElementId::Edge(e), ElementId::Edge(x)) => {
-                // Two crossing convex edges touch only if the plane through both separates
-                // the parts' wedges: with n = e × R x and s = ±1, A's in-face directions
-                // u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both are linear in
-                // R: n·u = (u × e)·(R x), n·(R v) = e·R(x × v).
-                let de = to_g(self.fixed.edge_direction(e));
-                let dx = self.moving.edge_direction(x);
-                let on_a: Vec<_> = self
-                    .fixed
-                    .edge_wedge(e)
-                    .iter()
-                    .map(|&u| range(u.cross(de), dx))
-                    .collect();
-                let on_b: Vec<_> = self
-                    .moving
-                    .edge_wedge(x)
-                    .iter()
-                    .map(|&v| range(de, dx.cross(v)))
-                    .collect();
-                let side = |s: f64| {
-                    on_a.iter()
-                        .all(|&(lo, hi)| if s > 0.0 { lo <= slack } else { hi >= -slack })
-                        && on_b
-                            .iter()
-                            .all(|&(lo, hi)| if s > 0.0 { hi >= -slack } else { lo <= slack })
-                };
-                side(1.0) || side(-1.0)
-            }
-            _ => true,
-        }
     }
 
     /// Whether every two contacts of a target can hold together on a rigid body: the
@@ -420,24 +337,29 @@ impl<'a> Problem<'a> {
     /// holds only on a sliver of the bounds), a third phase settles it with
     /// [`TIGHT_MARGIN_REL`].
     fn solve(&self, target: &[PrincipalContact], start: Pose, bounds: &Bounds) -> Pose {
-        let wide = SEARCH_MARGIN_REL * self.scale;
         let minimise = |margin: f64, penetration: bool, from: Pose| {
             solver::minimise(
-                |x, out| self.residuals(target, x, margin, penetration, out),
+                |x, out| self.residuals(target, x, margin * self.scale, penetration, out),
                 from,
                 bounds,
                 self.scale,
             )
         };
-        let pose = minimise(wide, true, minimise(wide, false, start));
-        let mut left = Vec::new();
-        self.residuals(target, &pose, wide, true, &mut left);
-        let left = left.iter().map(|r| r * r).sum::<f64>().sqrt();
-        if left > CONTACT_REL * self.scale && left < 3.0 * wide {
-            minimise(TIGHT_MARGIN_REL * self.scale, true, pose)
-        } else {
-            pose
+        let left = |margin: f64, pose: &Pose| {
+            let mut left = Vec::new();
+            self.residuals(target, pose, margin * self.scale, true, &mut left);
+            left.iter().map(|r| r * r).sum::<f64>().sqrt()
+        };
+        let mut pose = minimise(SEARCH_MARGIN_REL, true, minimise(SEARCH_MARGIN_REL, false, start));
+        // A state that holds only on a sliver (of the bounds, or between neighbouring
+        // states) cannot keep the wide margin: settle it with smaller ones, down to a
+        // few times the separation a witness needs.
+        let mut margin = SEARCH_MARGIN_REL;
+        while left(margin, &pose) > CONTACT_REL * self.scale && margin > TIGHT_MARGIN_REL {
+            margin = (margin * 0.1).max(TIGHT_MARGIN_REL);
+            pose = minimise(margin, true, pose);
         }
+        pose
     }
 
     /// One local optimisation that keeps the target's contacts and pushes the `extra`
@@ -650,9 +572,9 @@ impl<'a> Problem<'a> {
 
 /// How far (relative to L) the optimiser keeps contact points inside their elements.
 const SEARCH_MARGIN_REL: f64 = 1e-3;
-/// The margin of the settling phase, for states that hold only within a sliver of the
-/// bounds: well above the separation a witness needs ([`SEPARATION_REL`]).
-const TIGHT_MARGIN_REL: f64 = 2e-5;
+/// The smallest margin of the settling phases, for states that hold only on a sliver:
+/// a few times the separation a witness needs ([`SEPARATION_REL`]).
+const TIGHT_MARGIN_REL: f64 = 3e-6;
 
 /// The half-size of the first box [`Problem::find_near`] searches (translations
 /// relative to L, angles in radians).
@@ -670,31 +592,6 @@ enum Exclusion {
     Unreachable,
     Misoriented,
     Incompatible,
-}
-
-/// Interval enclosures of the moving part's points and directions over a box of poses.
-#[derive(Clone, Debug)]
-struct Enclosure {
-    /// Rotation only, for directions.
-    turn: interval::ReachBox,
-}
-
-impl Enclosure {
-    fn new(bounds: &Bounds) -> Enclosure {
-        Enclosure {
-            turn: interval::ReachBox::new(&rotation_only(bounds)),
-        }
-    }
-}
-
-/// The bounds with the translation fixed at zero.
-fn rotation_only(bounds: &Bounds) -> Bounds {
-    let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
-    for k in 0..3 {
-        lo[k] = 0.0;
-        hi[k] = 0.0;
-    }
-    Bounds::try_new(lo, hi).unwrap_or(*bounds)
 }
 
 /// Whether `big` holds every contact of `small` and more (both sorted).

@@ -15,7 +15,7 @@ use glam::{DAffine3, DVec3};
 
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
-use crate::model::{ElementId, Part};
+use crate::model::{ElementId, FaceId, Part, VertexId};
 use crate::pose::Bounds;
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 
@@ -41,6 +41,24 @@ enum Link {
     Region { a: (DVec3, DVec3), b: (DVec3, DVec3) },
 }
 
+/// The constraints of one target, prepared once for many boxes.
+pub(crate) struct Links {
+    links: Vec<Link>,
+    apart: Vec<Apart>,
+}
+
+/// A face and a vertex of the other part that a witness of the target keeps apart:
+/// they are neither a listed contact nor parts of one, so when the vertex lies over the
+/// face it is at least the separation off the face's plane, on either side (closer is
+/// a pair closer than a witness allows, touching is another contact).
+#[derive(Clone, Copy, Debug)]
+enum Apart {
+    /// A face of the fixed part and a vertex of the moving part.
+    FixedFace { face: usize, vertex: usize },
+    /// A face of the moving part and a vertex of the fixed part.
+    MovingFace { face: usize, vertex: usize },
+}
+
 /// One part's geometry as the prover uses it (the fixed part in G's frame).
 struct Shape {
     vertices: Vec<DVec3>,
@@ -50,6 +68,8 @@ struct Shape {
     pieces: Vec<Vec<(DVec3, f64)>>,
     /// Per convex piece: its bounding box (a point outside it is outside the piece).
     piece_boxes: Vec<(DVec3, DVec3)>,
+    /// Per face: its triangles (convex parts of the face, for "lies over the face").
+    triangles: Vec<Vec<[DVec3; 3]>>,
 }
 
 impl Shape {
@@ -74,6 +94,16 @@ impl Shape {
                 .convex_pieces()
                 .iter()
                 .map(|piece| bounds_of(piece.vertices().iter().map(|&v| frame.transform_point3(v))))
+                .collect(),
+            triangles: part
+                .faces()
+                .iter()
+                .map(|f| {
+                    f.triangles
+                        .iter()
+                        .map(|t| t.map(|v| frame.transform_point3(part.vertex(v).position)))
+                        .collect()
+                })
                 .collect(),
         }
     }
@@ -151,7 +181,51 @@ impl<'a> Prover<'a> {
 
     /// The constraints of a state's contacts; `None` when they are already
     /// contradictory without looking at poses.
-    fn links(&self, target: &[PrincipalContact]) -> Option<Vec<Link>> {
+    pub fn links(&self, target: &[PrincipalContact]) -> Option<Links> {
+        let links = self.link_list(target)?;
+        // A pair touches where a listed contact does when each element holds the
+        // contact's element on its side (a face around a touching vertex), or, for a
+        // contact along a segment or an area, lies in its closure (an edge's end on the
+        // face it lies in).
+        let implied = |a: ElementId, b: ElementId| {
+            target.iter().any(|pc| {
+                let region = matches!(
+                    pc.kind,
+                    ContactKind::FaceFace | ContactKind::FaceEdge | ContactKind::EdgeFace | ContactKind::EdgeEdgeTouch
+                );
+                let holds = |part: &Part, x: ElementId, y: ElementId| {
+                    part.in_closure(y, x) || (region && part.in_closure(x, y))
+                };
+                holds(self.fixed, pc.fixed, a) && holds(self.moving, pc.moving, b)
+            })
+        };
+        let mut apart = Vec::new();
+        for face in 0..self.fixed.faces().len() {
+            for vertex in 0..self.moving.vertices().len() {
+                let (a, b) = (
+                    ElementId::Face(FaceId(face as u32)),
+                    ElementId::Vertex(VertexId(vertex as u32)),
+                );
+                if !implied(a, b) {
+                    apart.push(Apart::FixedFace { face, vertex });
+                }
+            }
+        }
+        for face in 0..self.moving.faces().len() {
+            for vertex in 0..self.fixed.vertices().len() {
+                let (a, b) = (
+                    ElementId::Vertex(VertexId(vertex as u32)),
+                    ElementId::Face(FaceId(face as u32)),
+                );
+                if !implied(a, b) {
+                    apart.push(Apart::MovingFace { face, vertex });
+                }
+            }
+        }
+        Some(Links { links, apart })
+    }
+
+    fn link_list(&self, target: &[PrincipalContact]) -> Option<Vec<Link>> {
         let mut out = Vec::new();
         for pc in target {
             let (ea, eb) = (pc.fixed, pc.moving);
@@ -290,7 +364,7 @@ impl<'a> Prover<'a> {
         budget: usize,
         survives: &dyn Fn(&Bounds) -> bool,
     ) -> Option<Vec<Bounds>> {
-        let links = self.links(target)?;
+        let all = self.links(target)?;
         let mut boxes = vec![*bounds];
         let mut budget = budget;
         let open = |first: Bounds, rest: &[Bounds]| {
@@ -300,14 +374,14 @@ impl<'a> Prover<'a> {
         };
         while let Some(b) = boxes.pop() {
             if budget == 0 {
-                let first = self.contract(&links, &b).unwrap_or(b);
+                let first = self.contract(&all, &b).unwrap_or(b);
                 return open(first, &boxes);
             }
             budget -= 1;
             if !survives(&b) {
                 continue;
             }
-            let Some(narrowed) = self.contract(&links, &b) else {
+            let Some(narrowed) = self.contract(&all, &b) else {
                 continue;
             };
             let (lo, hi) = (narrowed.min.to_array(), narrowed.max.to_array());
@@ -331,9 +405,28 @@ impl<'a> Prover<'a> {
         None
     }
 
-    /// Narrows the translation part of a box by every constraint until it settles;
-    /// `None` when it becomes empty.
-    fn contract(&self, links: &[Link], bounds: &Bounds) -> Option<Bounds> {
+    /// Narrows the translation part of a box by every constraint of `links` until it
+    /// settles; `None` when it becomes empty (no pose in the box realises the state).
+    pub fn narrow(&self, links: &Links, bounds: &Bounds) -> Option<Bounds> {
+        self.contract(links, bounds)
+    }
+
+    /// How a box is split: the component to halve, rotations weighed as the arc they
+    /// sweep at the parts' size; `None` when the box is already below the slack.
+    pub fn split_component(&self, bounds: &Bounds) -> Option<usize> {
+        self.split_among(bounds, 0..6)
+    }
+
+    /// [`Prover::split_component`] among some components only.
+    pub fn split_among(&self, bounds: &Bounds, components: std::ops::Range<usize>) -> Option<usize> {
+        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+        let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { 2.0 * self.reach };
+        let k = components.max_by(|&i, &j| weight(i).total_cmp(&weight(j)))?;
+        (weight(k) > self.slack).then_some(k)
+    }
+
+    fn contract(&self, links: &Links, bounds: &Bounds) -> Option<Bounds> {
+        let Links { links, apart } = links;
         let r = rotation_enclosure(bounds);
         let mut t = [
             Interval::new(bounds.min.x, bounds.max.x),
@@ -383,6 +476,7 @@ impl<'a> Prover<'a> {
             for &c in &constraints {
                 narrow(c, &mut t)?;
             }
+            self.keep_apart(apart, &r, &mut t)?;
             // No vertex of the moving part strictly inside a convex piece of the fixed.
             for &(i, j) in &moving_vs_fixed {
                 let w = moved[i];
@@ -424,12 +518,71 @@ impl<'a> Prover<'a> {
                 break;
             }
         }
-        let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
-        for k in 0..3 {
-            lo[k] = t[k].lo;
-            hi[k] = t[k].hi;
+        Some(with_translation(bounds, &t))
+    }
+
+    /// Narrows `t` by the face–vertex pairs a witness keeps apart: a vertex that lies
+    /// over a face (its box projects into one of the face's triangles) and cannot be
+    /// the margin below the face's plane must be the margin above it, and the other way
+    /// round.
+    fn keep_apart(&self, apart: &[Apart], r: &IntervalMat, t: &mut IVec) -> Option<()> {
+        let m = self.margin;
+        for pair in apart {
+            match *pair {
+                Apart::FixedFace { face, vertex } => {
+                    let (n, d) = self.a.planes[face];
+                    let rw = mat_vec(r, self.b.vertices[vertex]);
+                    let p = add(rw, *t);
+                    let h = dot(point(n), p).sub(Interval::point(d));
+                    if h.lo >= m || h.hi <= -m || !over_face(&self.a.triangles[face], n, &p) {
+                        continue;
+                    }
+                    let n_rw = dot(point(n), rw);
+                    let range = if h.lo > -m {
+                        Interval::new(d + m - n_rw.hi, f64::INFINITY)
+                    } else if h.hi < m {
+                        Interval::new(f64::NEG_INFINITY, d - m - n_rw.lo)
+                    } else {
+                        continue;
+                    };
+                    narrow(
+                        Linear {
+                            coeffs: point(n),
+                            range,
+                        },
+                        t,
+                    )?;
+                }
+                Apart::MovingFace { face, vertex } => {
+                    let (mn, e) = self.b.planes[face];
+                    let u = mat_vec(r, mn);
+                    let a = point(self.a.vertices[vertex]);
+                    let from_t = sub(a, *t);
+                    let h = dot(u, from_t).sub(Interval::point(e));
+                    if h.lo >= m || h.hi <= -m {
+                        continue;
+                    }
+                    // The vertex in the moving part's frame: Rᵀ (a − t).
+                    let q: IVec = std::array::from_fn(|k| {
+                        (0..3).fold(Interval::point(0.0), |acc, j| acc.add(r[j][k].mul(from_t[j])))
+                    });
+                    if !over_face(&self.b.triangles[face], mn, &q) {
+                        continue;
+                    }
+                    let ua = dot(u, a);
+                    // (R m)·(a − t) − e ≥ m  ⇔  u·t ≤ u·a − e − m; ≤ −m the other way.
+                    let range = if h.lo > -m {
+                        Interval::new(f64::NEG_INFINITY, ua.hi - e - m)
+                    } else if h.hi < m {
+                        Interval::new(ua.lo - e + m, f64::INFINITY)
+                    } else {
+                        continue;
+                    };
+                    narrow(Linear { coeffs: u, range }, t)?;
+                }
+            }
         }
-        Bounds::try_new(lo, hi).ok()
+        Some(())
     }
 
     /// The linear constraints on `t` of one contact link, with R enclosed by `r`.
@@ -467,6 +620,16 @@ impl<'a> Prover<'a> {
     }
 }
 
+/// A box with its translation intervals replaced (they only ever narrow inside it).
+fn with_translation(bounds: &Bounds, t: &IVec) -> Bounds {
+    let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
+    for k in 0..3 {
+        lo[k] = t[k].lo;
+        hi[k] = t[k].hi;
+    }
+    Bounds::try_new(lo, hi).unwrap_or(*bounds)
+}
+
 /// The other side's box of a region link whose box on this side (the moving part's
 /// when `moving`) is the single point `at`.
 fn region_other(link: &mut Link, at: DVec3, moving: bool) -> Option<&mut (DVec3, DVec3)> {
@@ -501,6 +664,32 @@ fn outside_some<P>(
         None => None,
         Some(bound) => narrow(bound, t),
     }
+}
+
+/// Whether every point of a box projects, along the face normal `n`, into one of a
+/// face's triangles.
+fn over_face(triangles: &[[DVec3; 3]], n: DVec3, p: &IVec) -> bool {
+    let corners: Vec<DVec3> = (0..8)
+        .map(|c| {
+            DVec3::new(
+                if c & 1 == 0 { p[0].lo } else { p[0].hi },
+                if c & 2 == 0 { p[1].lo } else { p[1].hi },
+                if c & 4 == 0 { p[2].lo } else { p[2].hi },
+            )
+        })
+        .collect();
+    if corners.iter().any(|c| !c.is_finite()) {
+        return false;
+    }
+    triangles.iter().any(|&[a, b, c]| {
+        let normal = (b - a).cross(c - a);
+        let sign = normal.dot(n).signum();
+        corners.iter().all(|&q| {
+            [(a, b), (b, c), (c, a)]
+                .iter()
+                .all(|&(x, y)| (y - x).cross(q - x).dot(n) * sign >= 0.0)
+        })
+    })
 }
 
 /// Narrows `t` by `coeffs · t ∈ range`; `None` when no `t` in the box satisfies it.

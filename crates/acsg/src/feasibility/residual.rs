@@ -155,11 +155,9 @@ pub(crate) fn face_edge(a: Side, f: FaceId, b: Side, e: EdgeId, map: &DAffine3, 
         .map(|k| face.inside_depth(p0.lerp(p1, f64::from(k) / 10.0)))
         .fold(f64::NEG_INFINITY, f64::max);
     out.push(hinge(deepest, face.margin(m)));
-    for w in edge_neighbours(b.part, e) {
-        let q = map.transform_point3(w);
-        let d = point_segment(q, &Segment::new(p0, p1)).0;
-        out.push(hinge(face.plane_distance(q), m.clearance(d)));
-    }
+    // The edge's faces rise off the plane: across the edge, not at its ends, which may
+    // lie beyond the face.
+    rises(b.part, e, map, face.normal, m, out);
 }
 
 /// A face of `a` against a face of `b`: `b`'s face in the plane, the two overlapping
@@ -219,13 +217,10 @@ pub(crate) fn edge_crossing(a: Side, e: EdgeId, b: Side, x: EdgeId, map: &DAffin
     if n.length() > 0.0 {
         let n = n.normalize();
         let n = if n.dot(fa + ga) < 0.0 { -n } else { n };
-        for q in edge_neighbours(a.part, e) {
-            out.push(hinge(n.dot(a0 - q), m.clearance(a0.distance(q))));
-        }
-        for q in edge_neighbours(b.part, x) {
-            let q = map.transform_point3(q);
-            out.push(hinge(n.dot(q - b0), m.clearance(b0.distance(q))));
-        }
+        // Across each edge, not at its ends: a face may be non-convex, and the edges
+        // at an end have nothing to do with a crossing inside the edge.
+        rises(a.part, e, &DAffine3::IDENTITY, -n, m, out);
+        rises(b.part, x, map, n, m, out);
     }
 }
 
@@ -267,6 +262,18 @@ pub(crate) fn vertex_vertex(a: Side, v: VertexId, b: Side, w: VertexId, map: &DA
     out.extend(gap.to_array());
 }
 
+/// Each face of an edge (mapped by `map`) turns to the positive side of `normal`
+/// across the edge: its direction into the face, over the edge's length, rises by the
+/// clearance of that length.
+fn rises(part: &Part, e: EdgeId, map: &DAffine3, normal: DVec3, m: Margins, out: &mut Vec<f64>) {
+    let [p, q] = part.edge_points(e);
+    let length = p.distance(q);
+    for u in part.edge_wedge(e) {
+        let u = map.transform_vector3(u);
+        out.push(hinge(normal.dot(u) * length, m.clearance(length)));
+    }
+}
+
 /// The other end points of the edges at a vertex.
 pub(crate) fn neighbours(part: &Part, v: VertexId) -> Vec<DVec3> {
     part.vertex(v)
@@ -274,24 +281,6 @@ pub(crate) fn neighbours(part: &Part, v: VertexId) -> Vec<DVec3> {
         .iter()
         .map(|&e| {
             let [a, b] = part.edge(e).vertices;
-            part.vertex(if a == v { b } else { a }).position
-        })
-        .collect()
-}
-
-/// The corners of an edge's two faces that are not on the edge, next to its ends.
-pub(crate) fn edge_neighbours(part: &Part, e: EdgeId) -> Vec<DVec3> {
-    let ends = part.edge(e).vertices;
-    ends.iter()
-        .flat_map(|&v| {
-            part.vertex(v)
-                .edges
-                .iter()
-                .filter(move |&&x| x != e)
-                .map(move |&x| (v, x))
-        })
-        .map(|(v, x)| {
-            let [a, b] = part.edge(x).vertices;
             part.vertex(if a == v { b } else { a }).position
         })
         .collect()

@@ -34,8 +34,24 @@ pub struct Document {
     pub states: Vec<StateRecord>,
     /// Neighbour pairs of state ids.
     pub edges: Vec<[usize; 2]>,
+    /// Whether every candidate the search met was witnessed or proved infeasible
+    /// (DOMAIN.md section 4): then no state within the bounds is missing.
+    #[serde(default)]
+    pub complete: bool,
+    /// The candidates left undecided: states the graph may lack.
+    #[serde(default)]
+    pub undecided: Vec<UndecidedRecord>,
     /// Counts and times.
     pub stats: Stats,
+}
+
+/// A candidate left undecided, as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UndecidedRecord {
+    /// Its principal contacts.
+    pub contacts: Vec<ContactRecord>,
+    /// The smallest box of poses its proof left open.
+    pub open: BoundsRecord,
 }
 
 /// Units used in the file.
@@ -141,6 +157,18 @@ impl Document {
                 })
                 .collect(),
             edges: graph.edges.clone(),
+            complete: graph.is_complete(),
+            undecided: graph
+                .undecided
+                .iter()
+                .map(|u| UndecidedRecord {
+                    contacts: u.contacts.iter().map(|c| ContactRecord::of(c, fixed, moving)).collect(),
+                    open: BoundsRecord {
+                        min: u.open.min.to_array(),
+                        max: u.open.max.to_array(),
+                    },
+                })
+                .collect(),
             stats: graph.stats.clone(),
         }
     }

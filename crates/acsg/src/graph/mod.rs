@@ -32,7 +32,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::PrincipalContact;
-use crate::feasibility::{Problem, Search, SearchStats, is_primitive, primitive_contacts};
+use crate::feasibility::{Decided, Decision, Problem, SearchStats, Starts, is_primitive, primitive_contacts};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose};
 
@@ -117,8 +117,17 @@ pub struct Stats {
     pub descents: usize,
     /// States found by those searches.
     pub found_by_descent: usize,
-    /// Candidates for which no witness was found.
+    /// Candidates met in all (stage 1's PPCs, stage 2's combinations, descents): each
+    /// ends witnessed, proved infeasible or undecided.
+    pub candidates: usize,
+    /// Candidates with a verified witness (the state asked for).
+    pub witnessed: usize,
+    /// Candidates proved infeasible: no pose in the bounds shows them.
     pub infeasible: usize,
+    /// Candidates neither witnessed nor proved infeasible: the graph may lack them.
+    pub undecided: usize,
+    /// Boxes of poses examined by the branch and prune of the decisions.
+    pub boxes: usize,
     /// States, free space included.
     pub states: usize,
     /// Neighbour edges.
@@ -127,6 +136,15 @@ pub struct Stats {
     pub stage1_seconds: f64,
     /// Seconds in stage 2 (with the neighbour edges).
     pub stage2_seconds: f64,
+}
+
+/// A candidate state that was neither witnessed nor proved infeasible.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Undecided {
+    /// Its principal contacts, sorted.
+    pub contacts: Vec<PrincipalContact>,
+    /// The smallest box of poses the proof left open.
+    pub open: Bounds,
 }
 
 /// The generated graph.
@@ -138,6 +156,17 @@ pub struct Graph {
     pub edges: Vec<[usize; 2]>,
     /// Counts and times.
     pub stats: Stats,
+    /// The candidates left undecided, in the order met: empty when the graph is
+    /// complete.
+    pub undecided: Vec<Undecided>,
+}
+
+impl Graph {
+    /// Whether every candidate the search met was witnessed or proved infeasible.
+    #[must_use]
+    pub fn is_complete(&self) -> bool {
+        self.undecided.is_empty()
+    }
 }
 
 /// Progress of a run, for progress bars.
@@ -204,22 +233,24 @@ struct Generator<'a> {
     problem: Problem<'a>,
     states: Vec<State>,
     index: HashMap<Vec<PrincipalContact>, usize>,
-    /// Targets searched or known: never searched again.
+    /// Candidates decided or states known: never decided again.
     seen: BTreeSet<Vec<PrincipalContact>>,
-    /// Targets searched once without success and not proved infeasible: searched once
-    /// more, from the warm starts of the next parent that proposes them.
-    retry: BTreeSet<Vec<PrincipalContact>>,
+    /// Candidates left undecided.
+    undecided: Vec<Undecided>,
     stats: Stats,
 }
 
-/// One stage-2 search to run.
+/// One stage-2 candidate to decide.
 struct Candidate {
     target: Vec<PrincipalContact>,
     parent: usize,
     added: usize,
-    /// A second search of a target: warm starts only.
-    retry: bool,
 }
+
+/// Constructive starts of a stage-1 search (spread orientations).
+const PRIMITIVE_STARTS: usize = 17;
+/// Constructive starts of a stage-2 search (after the warm starts).
+const GROWTH_STARTS: usize = 2;
 
 impl<'a> Generator<'a> {
     fn new(fixed: &'a Part, moving: &'a Part, bounds: &Bounds, options: &'a Options) -> Generator<'a> {
@@ -232,7 +263,7 @@ impl<'a> Generator<'a> {
             states: Vec::new(),
             index: HashMap::new(),
             seen: BTreeSet::new(),
-            retry: BTreeSet::new(),
+            undecided: Vec::new(),
             stats: Stats::default(),
         };
         let root = generator.free_pose();
@@ -309,14 +340,19 @@ impl<'a> Generator<'a> {
 
     fn run(mut self, progress: &(dyn Fn(Progress) + Sync)) -> Graph {
         let started = Instant::now();
-        // Stage 1.
+        // Stage 1: every PPC decided.
         let ppcs = primitive_contacts(self.fixed, self.moving);
         self.stats.ppc = ppcs.len();
-        let mut results: Vec<(Search, SearchStats)> = Vec::with_capacity(ppcs.len());
+        let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(ppcs.len());
         for chunk in ppcs.chunks(BATCH) {
             results.par_extend(chunk.par_iter().map(|ppc| {
                 let mut stats = SearchStats::default();
-                (self.problem.find_primitive(ppc, &mut stats), stats)
+                let starts = Starts {
+                    warm: &[],
+                    anchor: ppc,
+                    constructive: PRIMITIVE_STARTS,
+                };
+                (self.problem.decide(&[*ppc], &starts, &mut stats), stats)
             }));
             progress(Progress {
                 stage: 1,
@@ -326,40 +362,28 @@ impl<'a> Generator<'a> {
             });
         }
         let mut feasible: Vec<(PrincipalContact, Pose)> = Vec::new();
-        let mut on_the_way = Vec::new();
-        for (ppc, (search, stats)) in ppcs.iter().zip(results) {
-            self.stats.ppc_unreachable += stats.pruned + stats.misoriented + stats.incompatible;
+        let mut frontier = Vec::new();
+        for (ppc, (decided, stats)) in ppcs.iter().zip(results) {
             self.stats.stage1_optimisations += stats.optimisations;
             self.stats.stage1_searched += usize::from(stats.optimisations > 0);
-            match search {
-                Search::Found(pose) => feasible.push((*ppc, pose)),
-                Search::NotFound { others } => on_the_way.extend(others),
-                Search::Unreachable => {}
+            self.stats.boxes += stats.boxes;
+            if stats.optimisations == 0 && matches!(decided.decision, Decision::Infeasible(_)) {
+                self.stats.ppc_unreachable += 1;
             }
+            if let Decision::Witnessed(pose) = decided.decision {
+                feasible.push((*ppc, pose));
+            }
+            frontier.extend(self.record(vec![*ppc], decided));
         }
         self.stats.feasible_ppc = feasible.len();
-        let mut frontier = Vec::new();
-        for (ppc, pose) in &feasible {
-            self.seen.insert(vec![*ppc]);
-            if let Some((id, true)) = self.add_state(vec![*ppc], *pose) {
-                frontier.push(id);
-            }
-        }
-        for (state, pose) in on_the_way {
-            if let Some((id, true)) = self.add_state(state, pose) {
-                self.stats.found_on_the_way += 1;
-                frontier.push(id);
-            }
-        }
         self.stats.stage1_seconds = started.elapsed().as_secs_f64();
 
         // Stage 2: breadth first; when it settles, search one contact below every known
-        // state from its witness (states the growth missed), and grow from what that finds.
+        // state (states the growth missed), and grow from what that finds.
         let started = Instant::now();
-        let mut descended: BTreeSet<Vec<PrincipalContact>> = BTreeSet::new();
         loop {
             self.grow_breadth_first(&mut frontier, &feasible, progress);
-            frontier = self.descend(&mut descended);
+            frontier = self.descend();
             if frontier.is_empty() {
                 break;
             }
@@ -368,16 +392,44 @@ impl<'a> Generator<'a> {
         self.stats.states = self.states.len();
         self.stats.edges = edges.len();
         self.stats.stage2_seconds = started.elapsed().as_secs_f64();
+        // A candidate left undecided whose state turned up later is witnessed.
+        let index = &self.index;
+        self.undecided.retain(|u| !index.contains_key(&u.contacts));
+        self.stats.undecided = self.undecided.len();
+        self.stats.witnessed = self.stats.candidates - self.stats.infeasible - self.stats.undecided;
         Graph {
             states: self.states,
             edges,
             stats: self.stats,
+            undecided: self.undecided,
         }
     }
 
+    /// Records the decision of a candidate and the states met on the way; the ids of
+    /// the new states.
+    fn record(&mut self, target: Vec<PrincipalContact>, decided: Decided) -> Vec<usize> {
+        self.stats.candidates += 1;
+        self.seen.insert(target.clone());
+        let mut new = Vec::new();
+        match decided.decision {
+            Decision::Witnessed(pose) => new.extend(self.add_state(target, pose).filter(|&(_, n)| n).map(|(id, _)| id)),
+            Decision::Infeasible(_) => self.stats.infeasible += 1,
+            Decision::Undecided(open) => self.undecided.push(Undecided { contacts: target, open }),
+        }
+        for (state, pose) in decided.others {
+            if let Some((id, true)) = self.add_state(state, pose) {
+                self.stats.found_on_the_way += 1;
+                new.push(id);
+            }
+        }
+        new
+    }
+
     /// For every known state with several contacts, its subsets one contact smaller that
-    /// are not states yet, each searched from the state's witness; the new states.
-    fn descend(&mut self, descended: &mut BTreeSet<Vec<PrincipalContact>>) -> Vec<usize> {
+    /// are neither states nor candidates yet, each decided: first pushed apart from the
+    /// state's witness, then in small boxes around it, then over the whole bounds. The
+    /// new states.
+    fn descend(&mut self) -> Vec<usize> {
         let mut candidates = Vec::new();
         for state in &self.states {
             let Some(witness) = state.witness else { continue };
@@ -387,52 +439,31 @@ impl<'a> Generator<'a> {
             for skip in 0..state.contacts.len() {
                 let mut target = state.contacts.clone();
                 target.remove(skip);
-                if self.index.contains_key(&target)
-                    || (!self.options.degenerate && self.is_degenerate(&target))
-                    || !descended.insert(target.clone())
-                {
+                if (!self.options.degenerate && self.is_degenerate(&target)) || !self.seen.insert(target.clone()) {
                     continue;
                 }
                 candidates.push((target, state.id, witness));
             }
         }
-        let results: Vec<(Search, SearchStats)> = candidates
+        let results: Vec<(Decided, SearchStats)> = candidates
             .par_iter()
             .map(|(target, from, witness)| {
                 let mut stats = SearchStats::default();
                 let above = &self.states[*from].contacts;
-                // Pushing the other contacts apart first; then a search in small boxes
-                // around the witness (next to a bound that one can miss).
-                let search = match self.problem.find_below(target, above, *witness, &mut stats) {
-                    Search::NotFound { mut others } => match self.problem.find_near(target, *witness, &mut stats) {
-                        Search::Found(pose) => Search::Found(pose),
-                        Search::NotFound { others: more } => {
-                            others.extend(more);
-                            Search::NotFound { others }
-                        }
-                        Search::Unreachable => Search::NotFound { others },
-                    },
-                    found => found,
-                };
-                (search, stats)
+                let decided = self.problem.decide_below(target, above, *witness, &mut stats);
+                (decided, stats)
             })
             .collect();
         let mut frontier = Vec::new();
-        for ((target, _, _), (search, stats)) in candidates.into_iter().zip(results) {
+        for ((target, _, _), (decided, stats)) in candidates.into_iter().zip(results) {
             self.stats.descents += 1;
-            self.stats.stage2_searched += 1;
+            self.stats.stage2_searched += usize::from(stats.optimisations > 0);
             self.stats.stage2_optimisations += stats.optimisations;
-            let found = match search {
-                Search::Found(pose) => vec![(target, pose)],
-                Search::NotFound { others } => others,
-                Search::Unreachable => Vec::new(),
-            };
-            for (state, pose) in found {
-                if let Some((id, true)) = self.add_state(state, pose) {
-                    self.stats.found_by_descent += 1;
-                    frontier.push(id);
-                }
-            }
+            self.stats.boxes += stats.boxes;
+            let witnessed = matches!(decided.decision, Decision::Witnessed(_));
+            let new = self.record(target, decided);
+            self.stats.found_by_descent += usize::from(witnessed && !new.is_empty());
+            frontier.extend(new);
         }
         frontier
     }
@@ -446,18 +477,19 @@ impl<'a> Generator<'a> {
     ) {
         while !frontier.is_empty() {
             let candidates = self.candidates(frontier, feasible);
-            let mut results: Vec<(Search, SearchStats)> = Vec::with_capacity(candidates.len());
+            let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
             for chunk in candidates.chunks(BATCH) {
                 results.par_extend(chunk.par_iter().map(|c| {
                     let mut stats = SearchStats::default();
                     let parent = self.states[c.parent].witness;
-                    let (added, added_witness) = feasible[c.added];
-                    let warm: Vec<Pose> = parent.into_iter().chain([added_witness]).collect();
-                    let constructive = if c.retry { 0 } else { 2 };
-                    (
-                        self.problem.find(&c.target, &warm, &added, constructive, &mut stats),
-                        stats,
-                    )
+                    let (added, added_witness) = &feasible[c.added];
+                    let warm: Vec<Pose> = parent.into_iter().chain([*added_witness]).collect();
+                    let starts = Starts {
+                        warm: &warm,
+                        anchor: added,
+                        constructive: GROWTH_STARTS,
+                    };
+                    (self.problem.decide(&c.target, &starts, &mut stats), stats)
                 }));
                 progress(Progress {
                     stage: 2,
@@ -467,37 +499,22 @@ impl<'a> Generator<'a> {
                 });
             }
             frontier.clear();
-            for (candidate, (search, stats)) in candidates.into_iter().zip(results) {
-                self.stats.pruned_unreachable += stats.pruned + stats.misoriented + stats.incompatible;
+            for (candidate, (decided, stats)) in candidates.into_iter().zip(results) {
                 self.stats.stage2_optimisations += stats.optimisations;
                 self.stats.stage2_searched += usize::from(stats.optimisations > 0);
-                match search {
-                    Search::Found(pose) => {
-                        if let Some((id, true)) = self.add_state(candidate.target, pose) {
-                            frontier.push(id);
-                        }
-                    }
-                    Search::NotFound { others } => {
-                        self.stats.infeasible += 1;
-                        if !candidate.retry {
-                            self.retry.insert(candidate.target.clone());
-                        }
-                        for (state, pose) in others {
-                            if let Some((id, true)) = self.add_state(state, pose) {
-                                self.stats.found_on_the_way += 1;
-                                frontier.push(id);
-                            }
-                        }
-                    }
-                    Search::Unreachable => self.stats.infeasible += 1,
+                self.stats.boxes += stats.boxes;
+                if stats.optimisations == 0 && matches!(decided.decision, Decision::Infeasible(_)) {
+                    self.stats.pruned_unreachable += 1;
                 }
+                frontier.extend(self.record(candidate.target, decided));
             }
         }
     }
 
-    /// The new searches of one breadth-first level, in a fixed order.
+    /// The new candidates of one breadth-first level, in a fixed order.
     fn candidates(&mut self, frontier: &[usize], feasible: &[(PrincipalContact, Pose)]) -> Vec<Candidate> {
         let mut out = Vec::new();
+        let mut proposed = BTreeSet::new();
         for &parent in frontier {
             let state = self.states[parent].contacts.clone();
             let implied = rules::state_primitives(self.fixed, self.moving, &state);
@@ -516,21 +533,9 @@ impl<'a> Generator<'a> {
                         self.stats.pruned_implied += 1;
                     } else if !self.options.degenerate && self.is_degenerate(&target) {
                         self.stats.pruned_degenerate += 1;
-                    } else if self.seen.insert(target.clone()) {
+                    } else if !self.seen.contains(&target) && proposed.insert(target.clone()) {
                         self.stats.stage2_candidates += 1;
-                        out.push(Candidate {
-                            target,
-                            parent,
-                            added,
-                            retry: false,
-                        });
-                    } else if !self.index.contains_key(&target) && self.retry.remove(&target) {
-                        out.push(Candidate {
-                            target,
-                            parent,
-                            added,
-                            retry: true,
-                        });
+                        out.push(Candidate { target, parent, added });
                     } else {
                         self.stats.pruned_duplicate += 1;
                     }

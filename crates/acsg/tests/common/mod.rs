@@ -3,3 +3,5 @@
 #![allow(dead_code)]
 
 pub mod hull;
+pub mod principal;
+pub mod slices;

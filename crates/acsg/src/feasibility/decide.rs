@@ -1,0 +1,486 @@
+//! Deciding a candidate state: a verified witness, a proof that no pose in the bounds
+//! shows it, or an honest "undecided" with the smallest box of poses left open.
+//!
+//! The decision is a branch and prune over boxes of poses. Every box is first tested
+//! by conservative exclusions (each sound: it only drops a box when no pose in it can
+//! show the state):
+//! - the orientation test over the box's rotations;
+//! - interval constraint propagation ([`super::prover`]), which narrows the box's
+//!   translations and may empty it;
+//! - two Lipschitz tests at the box's centre: every point of the moving part moves by
+//!   at most `δ = |Δt| + ρ Σ|Δθ|` over the box (ρ the farthest vertex from the moving
+//!   part's origin), so a contact whose elements are more than `δ` apart at the centre,
+//!   or a pair of convex pieces penetrating by more than `δ` there (the penetration
+//!   depth is 1-Lipschitz in that displacement), rules the whole box out.
+//!
+//! A box that survives is searched by a local optimisation from its centre, within the
+//! box, at every few levels of depth, and split in two. The search ends with a witness,
+//! with every box excluded (proved infeasible), or when the budget runs out
+//! (undecided).
+
+use std::collections::BTreeSet;
+
+use super::prover::Links;
+use super::turns::Turns;
+use super::{Problem, SearchStats, is_strict_superset};
+use crate::contact::PrincipalContact;
+use crate::pose::{Bounds, Pose};
+use crate::tolerance::{CONTACT_REL, scaled};
+
+/// A rule that excluded boxes of poses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Rule {
+    /// Two contacts' points are too far apart on one part and too close on the other,
+    /// whatever the pose.
+    RigidDistance,
+    /// No rotation in the box puts each part on the outer side of the other's face.
+    Orientation,
+    /// Interval constraint propagation of the contacts and of non-penetration of
+    /// vertices emptied the box.
+    Propagation,
+    /// The elements of a contact are farther apart at the box's centre than any point
+    /// can move within the box.
+    Distance,
+    /// The parts penetrate at the box's centre by more than any point can move within
+    /// the box.
+    Penetration,
+}
+
+/// A proof that no pose in the bounds shows a candidate: the rules that excluded the
+/// boxes, and how many boxes were examined.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Proof {
+    /// Every rule that excluded some box.
+    pub rules: BTreeSet<Rule>,
+    /// Boxes examined.
+    pub boxes: usize,
+}
+
+/// How the decision of one candidate ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Decision {
+    /// A verified witness of the candidate.
+    Witnessed(Pose),
+    /// No pose in the bounds shows it.
+    Infeasible(Proof),
+    /// Neither: the budget ran out. The smallest box of poses still open.
+    Undecided(Bounds),
+}
+
+/// A decision and the other states met on the way (verified, with their witnesses).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Decided {
+    /// How the candidate ended.
+    pub decision: Decision,
+    /// Other states whose witnesses the search met.
+    pub others: Vec<(Vec<PrincipalContact>, Pose)>,
+}
+
+/// The half-size of the first box around a witness that [`Problem::decide_below`]
+/// searches (translations relative to L, angles in radians).
+const NEAR_REL: f64 = 1e-4;
+
+/// Boxes examined before the first optimisation: cheap proofs come first.
+const PRUNE_BUDGET: usize = 256;
+/// Boxes of rotations examined while searching inside them.
+const SEARCH_BUDGET: usize = 2048;
+/// Boxes examined by the last proofs, split in every component.
+const PROOF_BUDGET: usize = 2048;
+/// A box of rotations that survives is searched by optimisation every this many
+/// levels of depth (three: each angle halved once).
+const SEARCH_EVERY: u32 = 3;
+/// Local optimisations inside boxes, at most, per candidate.
+const BOX_SEARCHES: usize = 48;
+
+/// Where a search from the warm and constructive starts begins.
+pub(crate) struct Starts<'s> {
+    /// Witnesses of related states (the parent's, the added contact's).
+    pub warm: &'s [Pose],
+    /// The contact whose points the constructive starts put together.
+    pub anchor: &'s PrincipalContact,
+    /// How many constructive starts.
+    pub constructive: usize,
+}
+
+/// What a target's boxes are tested against.
+pub(crate) struct Conditions {
+    /// The contacts and the pairs kept apart, for propagation.
+    links: Links,
+    /// The rotation-only conditions.
+    turns: Turns,
+}
+
+/// How a branch and prune splits its boxes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    /// In rotation only: the constraints are linear in the translation once the
+    /// rotation is enclosed, so propagation narrows the translation directly.
+    Rotations,
+    /// In every component, with the Lipschitz tests.
+    All,
+}
+
+/// The boxes still open, depth first.
+struct Branching {
+    /// Open boxes with their depths, shallow first (breadth first: every region is
+    /// searched at one depth before any is searched deeper).
+    open: std::collections::VecDeque<(Bounds, u32)>,
+    examined: usize,
+    rules: BTreeSet<Rule>,
+    /// Boxes left open because they could not be split further (below the slack).
+    leaves: Vec<Bounds>,
+}
+
+impl Problem<'_> {
+    /// Decides a candidate state (contacts sorted) over the whole bounds: the starts
+    /// first, then a branch and prune that searches inside the boxes it cannot exclude.
+    pub(crate) fn decide(&self, target: &[PrincipalContact], starts: &Starts, stats: &mut SearchStats) -> Decided {
+        let mut others = Vec::new();
+        let decision = self.decide_within(target, starts, &self.bounds, &mut others, stats);
+        Decided { decision, others }
+    }
+
+    /// Decides `target`, one contact below a known `state` with witness `witness`:
+    /// first by pushing the other contact apart from the witness, then within small
+    /// boxes around it (a state whose neighbours hold only next to it, at a bound),
+    /// then over the whole bounds from the witness.
+    pub(crate) fn decide_below(
+        &self,
+        target: &[PrincipalContact],
+        state: &[PrincipalContact],
+        witness: Pose,
+        stats: &mut SearchStats,
+    ) -> Decided {
+        let mut others = Vec::new();
+        let Some(anchor) = target.first() else {
+            return Decided {
+                decision: Decision::Infeasible(Proof {
+                    rules: BTreeSet::new(),
+                    boxes: 0,
+                }),
+                others,
+            };
+        };
+        let witnessed = |pose| Decided {
+            decision: Decision::Witnessed(pose),
+            others: Vec::new(),
+        };
+        match self.find_below(target, state, witness, stats) {
+            super::Search::Found(pose) => return witnessed(pose),
+            super::Search::NotFound { others: seen } => others.extend(seen),
+            super::Search::Unreachable => {}
+        }
+        let starts = Starts {
+            warm: &[witness],
+            anchor,
+            constructive: 2,
+        };
+        for size in [NEAR_REL, 100.0 * NEAR_REL] {
+            let x = witness.to_array();
+            let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
+            let reach = |k: usize| if k < 3 { size * self.scale } else { size };
+            let local_lo: [f64; 6] = std::array::from_fn(|k| (x[k] - reach(k)).max(lo[k]));
+            let local_hi: [f64; 6] = std::array::from_fn(|k| (x[k] + reach(k)).min(hi[k]));
+            let Ok(local) = Bounds::try_new(local_lo, local_hi) else {
+                continue;
+            };
+            if let Decision::Witnessed(pose) = self.decide_within(target, &starts, &local, &mut others, stats) {
+                return Decided {
+                    decision: Decision::Witnessed(pose),
+                    others,
+                };
+            }
+        }
+        let decision = self.decide_within(target, &starts, &self.bounds, &mut others, stats);
+        Decided { decision, others }
+    }
+
+    pub(crate) fn decide_within(
+        &self,
+        target: &[PrincipalContact],
+        starts: &Starts,
+        bounds: &Bounds,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        stats: &mut SearchStats,
+    ) -> Decision {
+        let proof = |rule: Rule| {
+            Decision::Infeasible(Proof {
+                rules: BTreeSet::from([rule]),
+                boxes: 1,
+            })
+        };
+        if !self.rigidly_compatible(target) {
+            return proof(Rule::RigidDistance);
+        }
+        let Some(links) = self.prover.links(target) else {
+            return proof(Rule::Propagation);
+        };
+        let conditions = Conditions {
+            links,
+            turns: self.turns(target),
+        };
+        let links = &conditions;
+        let mut branching = Branching {
+            open: std::collections::VecDeque::from([(*bounds, 0)]),
+            examined: 0,
+            rules: BTreeSet::new(),
+            leaves: Vec::new(),
+        };
+        // Cheap proofs first, split in rotation only: given the rotation, the contacts
+        // are linear in the translation, which propagation narrows directly.
+        if let Some(decision) = self.branch(
+            target,
+            links,
+            Mode::Rotations,
+            &mut branching,
+            PRUNE_BUDGET,
+            None,
+            others,
+            stats,
+        ) {
+            return decision;
+        }
+        // The warm starts and the constructive starts.
+        let constructive = self.starts(starts.anchor, starts.constructive, bounds);
+        for start in starts.warm.iter().copied().chain(constructive) {
+            if let Some(pose) = self.search_from(target, start, bounds, others, stats) {
+                return Decision::Witnessed(pose);
+            }
+        }
+        // Then inside the boxes of rotations that stay open, level by level.
+        let mut searches = 0;
+        let budget = PRUNE_BUDGET + SEARCH_BUDGET;
+        if let Some(decision) = self.branch(
+            target,
+            links,
+            Mode::Rotations,
+            &mut branching,
+            budget,
+            Some(&mut searches),
+            others,
+            stats,
+        ) {
+            return decision;
+        }
+        // Last, proofs that need the translations split too (non-penetration, the
+        // Lipschitz tests), from the boxes left.
+        branching.open.extend(branching.leaves.drain(..).map(|b| (b, 0)));
+        self.branch(
+            target,
+            links,
+            Mode::All,
+            &mut branching,
+            budget + PROOF_BUDGET,
+            Some(&mut searches),
+            others,
+            stats,
+        )
+        .unwrap_or_else(|| Decision::Undecided(branching.open().unwrap_or(*bounds)))
+    }
+
+    /// Examines boxes until none is left open (proof), a witness is found, a box
+    /// cannot be split, or `budget` boxes have been examined in all (`None`: the
+    /// boxes left stay open). With `searches`, boxes that survive are searched
+    /// by optimisation every [`SEARCH_EVERY`] levels.
+    #[allow(clippy::too_many_arguments)]
+    fn branch(
+        &self,
+        target: &[PrincipalContact],
+        links: &Conditions,
+        mode: Mode,
+        branching: &mut Branching,
+        budget: usize,
+        mut searches: Option<&mut usize>,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        stats: &mut SearchStats,
+    ) -> Option<Decision> {
+        while branching.examined < budget {
+            let Some((b, depth)) = branching.open.pop_front() else {
+                if let Some(&leaf) = branching.leaves.first() {
+                    // A box split to the end in rotation may still fall to translation
+                    // splits.
+                    return (mode == Mode::All).then_some(Decision::Undecided(leaf));
+                }
+                return Some(Decision::Infeasible(Proof {
+                    rules: std::mem::take(&mut branching.rules),
+                    boxes: branching.examined,
+                }));
+            };
+            branching.examined += 1;
+            stats.boxes += 1;
+            let narrowed = match self.exclude(target, links, mode, &b) {
+                Err(rule) => {
+                    branching.rules.insert(rule);
+                    continue;
+                }
+                Ok(narrowed) => narrowed,
+            };
+            if let Some(count) = searches.as_deref_mut() {
+                if depth > 0 && depth % SEARCH_EVERY == 0 && *count < BOX_SEARCHES {
+                    *count += 1;
+                    if let Some(pose) = self.search_from(target, narrowed.center(), &narrowed, others, stats) {
+                        return Some(Decision::Witnessed(pose));
+                    }
+                }
+            }
+            let split = match mode {
+                // Along the angle the undecided rotation conditions change most, else
+                // by look-ahead.
+                Mode::Rotations => links
+                    .turns
+                    .split(&narrowed)
+                    .or_else(|| self.look_ahead(target, links, &narrowed)),
+                Mode::All => self.prover.split_component(&narrowed),
+            };
+            match split {
+                Some(k) => {
+                    for half in halves(&narrowed, k) {
+                        branching.open.push_back((half, depth + 1));
+                    }
+                }
+                None if mode == Mode::Rotations => branching.leaves.push(narrowed),
+                None => {
+                    // Below the slack and not excluded: a last search from its centre,
+                    // then it stays open.
+                    if let Some(pose) = self.search_from(target, narrowed.center(), &narrowed, others, stats) {
+                        return Some(Decision::Witnessed(pose));
+                    }
+                    branching.leaves.push(narrowed);
+                }
+            }
+        }
+        None
+    }
+
+    /// The rotation component to split a box of the relaxed proof along: the one whose
+    /// halves come closest to exclusion (each excluded half counts 0, an open one the
+    /// mean share of the translation widths left after propagation), the widest on a
+    /// tie. An angle the contacts do not depend on (a turn about a face's normal) then
+    /// stays whole.
+    fn look_ahead(&self, target: &[PrincipalContact], links: &Conditions, b: &Bounds) -> Option<usize> {
+        let widest = self.prover.split_among(b, 3..6)?;
+        let parent = b.width();
+        let score = |k: usize| -> f64 {
+            halves(b, k)
+                .iter()
+                .map(|half| match self.exclude(target, links, Mode::Rotations, half) {
+                    Err(_) => 0.0,
+                    Ok(narrowed) => {
+                        let w = narrowed.width();
+                        (0..3)
+                            .map(|j| if parent[j] > 0.0 { w[j] / parent[j] } else { 1.0 })
+                            .sum::<f64>()
+                            / 3.0
+                    }
+                })
+                .sum()
+        };
+        let splittable: Vec<usize> = (3..6)
+            .filter(|&k| self.prover.split_among(b, k..k + 1).is_some())
+            .collect();
+        let scores: Vec<(usize, f64)> = splittable.iter().map(|&k| (k, score(k))).collect();
+        let best = scores.iter().map(|&(_, s)| s).fold(f64::INFINITY, f64::min);
+        if scores.iter().all(|&(_, s)| s == best) {
+            return Some(widest);
+        }
+        scores.iter().find(|&&(_, s)| s == best).map(|&(k, _)| k)
+    }
+
+    /// The exclusion tests of one box: the box narrowed by propagation when none
+    /// excludes it.
+    fn exclude(&self, target: &[PrincipalContact], links: &Conditions, mode: Mode, b: &Bounds) -> Result<Bounds, Rule> {
+        if !links.turns.may_hold(b) {
+            return Err(Rule::Orientation);
+        }
+        let narrowed = self.prover.narrow(&links.links, b).ok_or(Rule::Propagation)?;
+        if mode == Mode::Rotations {
+            // The Lipschitz tests need small translation boxes too.
+            return Ok(narrowed);
+        }
+        let reach = self.reach_within(&narrowed);
+        let slack = scaled(10.0 * CONTACT_REL, self.scale);
+        let placement = self.placement(&narrowed.center());
+        if target
+            .iter()
+            .any(|pc| self.scene.element_distance(&placement, pc.fixed, pc.moving) > reach + slack)
+        {
+            return Err(Rule::Distance);
+        }
+        if self.scene.penetration_depth(&placement) > reach + slack {
+            return Err(Rule::Penetration);
+        }
+        Ok(narrowed)
+    }
+
+    /// How far any point of the moving part can move between a box's centre and any
+    /// pose in the box: the translation's half-diagonal plus, for each angle, its
+    /// half-width times the farthest vertex from the moving part's origin (an
+    /// elementary rotation by α moves a point at radius ρ by at most ρ |α|).
+    fn reach_within(&self, b: &Bounds) -> f64 {
+        let w = b.width();
+        let translation = (0..3).map(|k| (0.5 * w[k]).powi(2)).sum::<f64>().sqrt();
+        let turn: f64 = (3..6).map(|k| 0.5 * w[k]).sum();
+        translation + self.moving_radius * turn
+    }
+
+    /// One local optimisation from `start` within `bounds`; the witness when the pose
+    /// it reaches (or a pose pushed from there) shows the target. Other clean states
+    /// met are added to `others`.
+    fn search_from(
+        &self,
+        target: &[PrincipalContact],
+        start: Pose,
+        bounds: &Bounds,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        stats: &mut SearchStats,
+    ) -> Option<Pose> {
+        stats.optimisations += 1;
+        let pose = self.solve(target, start, bounds);
+        let report = self.inspect(&pose)?;
+        if !self.is_clean(&report) {
+            return self.clear(target, pose, &report, bounds, stats);
+        }
+        let state = report.contacts;
+        if state.is_empty() {
+            return None;
+        }
+        if state == target {
+            return Some(pose);
+        }
+        if is_strict_superset(&state, target) {
+            // The target held, with more contacts: push those apart from here.
+            if let super::Search::Found(released) = self.find_below(target, &state, pose, stats) {
+                return Some(released);
+            }
+        }
+        if !others.iter().any(|(known, _)| *known == state) {
+            others.push((state, pose));
+        }
+        None
+    }
+}
+
+/// The two halves of a box split across component `k`.
+fn halves(b: &Bounds, k: usize) -> Vec<Bounds> {
+    let (lo, hi) = (b.min.to_array(), b.max.to_array());
+    let mid = 0.5 * (lo[k] + hi[k]);
+    let (mut upper_lo, mut lower_hi) = (lo, hi);
+    upper_lo[k] = mid;
+    lower_hi[k] = mid;
+    [(upper_lo, hi), (lo, lower_hi)]
+        .into_iter()
+        .filter_map(|(l, h)| Bounds::try_new(l, h).ok())
+        .collect()
+}
+
+impl Branching {
+    /// The smallest box still open: a box below the slack, else the deepest in the
+    /// queue.
+    fn open(&self) -> Option<Bounds> {
+        self.leaves
+            .first()
+            .copied()
+            .or_else(|| self.open.back().map(|(b, _)| *b))
+    }
+}

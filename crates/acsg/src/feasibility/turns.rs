@@ -1,0 +1,271 @@
+//! The rotation-only conditions of a target: at a contact involving a face, the other
+//! part's edges leaving the contact point out of the face, its edges in the contact lie
+//! along the face, a face in contact faces the other way; two crossing edges have a
+//! plane through both that separates their wedges.
+//!
+//! Each condition is a value `n · (R d)` (n in G's frame, d in the moving part's) that
+//! must meet a range. Over a box of rotations the value is enclosed by interval
+//! arithmetic, so a condition that cannot be met proves that no pose in the box shows
+//! the target. The conditions that are still undecided on a box also say which angle
+//! to split it along: the one they change the most across the box.
+
+use glam::DVec3;
+
+use super::Problem;
+use super::interval::{Interval, IntervalMat, rotation_enclosure};
+use crate::contact::PrincipalContact;
+use crate::model::{ElementId, FaceId, Part};
+use crate::pose::{Bounds, Pose};
+use crate::tolerance::{CONTACT_REL, scaled};
+
+/// `n · (R d)` must meet `[lo, hi]`.
+#[derive(Clone, Copy, Debug)]
+struct Turn {
+    n: DVec3,
+    d: DVec3,
+    lo: f64,
+    hi: f64,
+}
+
+/// Two crossing edges: with `s = ±1`, every `n · (R d)` of `on_a` is at most `slack`
+/// times `s` and every one of `on_b` at least `-slack` times `s` (a plane through both
+/// edges separates the two parts' wedges).
+#[derive(Clone, Debug)]
+struct Wedge {
+    on_a: Vec<(DVec3, DVec3)>,
+    on_b: Vec<(DVec3, DVec3)>,
+    slack: f64,
+}
+
+/// The rotation-only conditions of a target, prepared once for many boxes.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Turns {
+    turns: Vec<Turn>,
+    wedges: Vec<Wedge>,
+}
+
+/// `n · (R d)` over a rotation enclosure.
+fn value(r: &IntervalMat, n: DVec3, d: DVec3) -> Interval {
+    (0..3).fold(Interval::point(0.0), |acc, i| {
+        let row = (0..3).fold(Interval::point(0.0), |acc, j| {
+            acc.add(r[i][j].mul(Interval::point(d[j])))
+        });
+        acc.add(row.mul(Interval::point(n[i])))
+    })
+}
+
+impl Wedge {
+    /// Whether some side may separate, and whether one certainly does.
+    fn sides(&self, r: &IntervalMat) -> (bool, bool) {
+        let a: Vec<Interval> = self.on_a.iter().map(|&(n, d)| value(r, n, d)).collect();
+        let b: Vec<Interval> = self.on_b.iter().map(|&(n, d)| value(r, n, d)).collect();
+        let s = self.slack;
+        let may = |sign: f64| {
+            a.iter().all(|v| if sign > 0.0 { v.lo <= s } else { v.hi >= -s })
+                && b.iter().all(|v| if sign > 0.0 { v.hi >= -s } else { v.lo <= s })
+        };
+        let sure = |sign: f64| {
+            a.iter().all(|v| if sign > 0.0 { v.hi <= s } else { v.lo >= -s })
+                && b.iter().all(|v| if sign > 0.0 { v.lo >= -s } else { v.hi <= s })
+        };
+        (may(1.0) || may(-1.0), sure(1.0) || sure(-1.0))
+    }
+}
+
+impl Turns {
+    /// Whether some rotation in the box may meet every condition (`false` proves that
+    /// none does).
+    pub fn may_hold(&self, b: &Bounds) -> bool {
+        let r = rotation_enclosure(b);
+        self.turns.iter().all(|t| {
+            let v = value(&r, t.n, t.d);
+            v.hi >= t.lo && v.lo <= t.hi
+        }) && self.wedges.iter().all(|w| w.sides(&r).0)
+    }
+
+    /// The angle (3, 4 or 5) to split a box along: the one the undecided conditions
+    /// change the most across the box (derivative at the centre times width); `None`
+    /// when every condition is decided or none depends on an angle that can be split.
+    pub fn split(&self, b: &Bounds) -> Option<usize> {
+        let r = rotation_enclosure(b);
+        let mut terms: Vec<(DVec3, DVec3)> = Vec::new();
+        for t in &self.turns {
+            let v = value(&r, t.n, t.d);
+            if v.lo < t.lo || v.hi > t.hi {
+                terms.push((t.n, t.d));
+            }
+        }
+        for w in &self.wedges {
+            if !w.sides(&r).1 {
+                terms.extend(w.on_a.iter().chain(&w.on_b));
+            }
+        }
+        if terms.is_empty() {
+            return None;
+        }
+        let centre = b.center().to_array();
+        let width = b.width();
+        let rotation = |k: usize, h: f64| {
+            let mut x = centre;
+            x[k] += h;
+            Pose::from_array(x).rotation()
+        };
+        let h = 1e-6;
+        let mut best = (0.0, None);
+        for (k, &w) in width.iter().enumerate().skip(3) {
+            if w <= 0.0 {
+                continue;
+            }
+            let (plus, minus) = (rotation(k, h), rotation(k, -h));
+            let change = terms
+                .iter()
+                .map(|&(n, d)| (n.dot(plus * d) - n.dot(minus * d)).abs() / (2.0 * h))
+                .fold(0.0, f64::max)
+                * w;
+            if change > best.0 {
+                best = (change, Some(k));
+            }
+        }
+        best.1
+    }
+}
+
+impl Problem<'_> {
+    /// The rotation-only conditions of every contact of a target.
+    pub(crate) fn turns(&self, target: &[PrincipalContact]) -> Turns {
+        let mut turns = Turns::default();
+        for pc in target {
+            self.add_turns(pc, &mut turns);
+        }
+        turns
+    }
+
+    fn add_turns(&self, pc: &PrincipalContact, out: &mut Turns) {
+        let slack = 1e-9;
+        // A contact holds to the contact tolerance: an edge of length ℓ lies in a face
+        // when its ends are that close to the plane, so its direction may be off the
+        // plane by (tolerance / ℓ); ten times that, as the prover allows.
+        let tilt = |length: f64| (scaled(10.0 * CONTACT_REL, self.scale) / length).max(slack);
+        // Half the separation: a margin no witness can lack.
+        let rise = 0.5 * self.separation();
+        // Everything in G's frame, where the rotation enclosures are of R.
+        let to_g = |d: DVec3| self.prover.fixed_direction(d);
+        // The directions in which an element's part leaves it, each with the least
+        // value its component along the other face's normal may take:
+        // - at a vertex in a face's interior, its edges, which must rise at least half
+        //   the separation over their length (a neighbour closer to the plane than that
+        //   is a pair closer than a witness allows, or lies in the plane: another
+        //   contact);
+        // - at an edge lying in a face, its faces' directions across it, which must not
+        //   dip below the plane (more than the contact tolerance allows, at the face's
+        //   farthest corner);
+        // - nothing at a face on a face: its ends may run off the other face.
+        let leaving = |part: &Part, e: ElementId| -> Vec<(DVec3, f64)> {
+            match e {
+                ElementId::Vertex(v) => part
+                    .vertex(v)
+                    .edges
+                    .iter()
+                    .map(|&x| {
+                        let [a, b] = part.edge(x).vertices;
+                        let w = if a == v { b } else { a };
+                        let d = part.vertex(w).position - part.vertex(v).position;
+                        (d.normalize(), rise / d.length())
+                    })
+                    .collect(),
+                ElementId::Edge(x) => {
+                    let [p, q] = part.edge_points(x);
+                    let along = (q - p).normalize();
+                    part.edge(x)
+                        .faces
+                        .iter()
+                        .zip(part.edge_wedge(x))
+                        .map(|(&f, u)| {
+                            let reach = part
+                                .closure_vertices(ElementId::Face(f))
+                                .iter()
+                                .map(|&w| (part.vertex(w).position - p).cross(along).length())
+                                .fold(0.0, f64::max);
+                            (u, -tilt(reach))
+                        })
+                        .collect()
+                }
+                ElementId::Face(_) => Vec::new(),
+            }
+        };
+        // The edges of an element's closure, which lie in the other face's plane.
+        let within = |part: &Part, e: ElementId| -> Vec<(DVec3, f64)> {
+            part.closure_edges(e)
+                .into_iter()
+                .map(|x| {
+                    let [a, b] = part.edge_points(x);
+                    ((b - a).normalize(), tilt(a.distance(b)))
+                })
+                .collect()
+        };
+        let turn = |n: DVec3, d: DVec3, lo: f64, hi: f64| Turn { n, d, lo, hi };
+        match (pc.fixed, pc.moving) {
+            (ElementId::Face(f), b) => {
+                let n = to_g(self.fixed.face(f).normal);
+                for (d, least) in leaving(self.moving, b) {
+                    out.turns.push(turn(n, d, least, f64::INFINITY));
+                }
+                for (d, slack) in within(self.moving, b) {
+                    out.turns.push(turn(n, d, -slack, slack));
+                }
+                if let ElementId::Face(g) = b {
+                    // Face on face: R n_g = −n, each component to the tilt either face's
+                    // contact allows (its outline within the tolerance of the other's
+                    // plane: a tilt of at most 2 tolerance / width, and width is at
+                    // least 2 area / perimeter).
+                    let allowed = |part: &Part, f: FaceId| {
+                        let face = part.face(f);
+                        let perimeter: f64 = face
+                            .loops
+                            .iter()
+                            .flat_map(|l| l.edges.iter().map(|&x| part.edge_points(x)))
+                            .map(|[p, q]| p.distance(q))
+                            .sum();
+                        tilt(face.area / perimeter)
+                    };
+                    let slack = allowed(self.fixed, f).max(allowed(self.moving, g));
+                    let m = self.moving.face(g).normal;
+                    for (k, axis) in DVec3::AXES.into_iter().enumerate() {
+                        out.turns.push(turn(axis, m, -n[k] - slack, -n[k] + slack));
+                    }
+                }
+            }
+            (a, ElementId::Face(g)) => {
+                // In B's frame: A's directions d against R n_g, i.e. d · (R n_g).
+                let m = self.moving.face(g).normal;
+                for (d, least) in leaving(self.fixed, a) {
+                    out.turns.push(turn(to_g(d), m, least, f64::INFINITY));
+                }
+                for (d, slack) in within(self.fixed, a) {
+                    out.turns.push(turn(to_g(d), m, -slack, slack));
+                }
+            }
+            (ElementId::Edge(e), ElementId::Edge(x)) => {
+                // Two crossing convex edges touch only if the plane through both
+                // separates the parts' wedges: with n = e × R x and s = ±1, A's in-face
+                // directions u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both
+                // are linear in R: n·u = (u × e)·(R x), n·(R v) = e·R(x × v).
+                let de = to_g(self.fixed.edge_direction(e));
+                let dx = self.moving.edge_direction(x);
+                let [e0, e1] = self.fixed.edge_points(e);
+                let [x0, x1] = self.moving.edge_points(x);
+                out.wedges.push(Wedge {
+                    on_a: self
+                        .fixed
+                        .edge_wedge(e)
+                        .iter()
+                        .map(|&u| (to_g(u).cross(de), dx))
+                        .collect(),
+                    on_b: self.moving.edge_wedge(x).iter().map(|&v| (de, dx.cross(v))).collect(),
+                    slack: tilt(e0.distance(e1).min(x0.distance(x1))),
+                });
+            }
+            _ => {}
+        }
+    }
+}

@@ -1,0 +1,924 @@
+//! Recall of the generator against an independent oracle (DOMAIN.md section 8,
+//! "Rotation slices"): on fixed rotations the contact translations are the boundary of
+//! a union of Minkowski differences of convex pieces, built exactly in test code
+//! (`common::slices`); P(X) at poses sampled there is read by an evaluator of the
+//! principal-contact rule that shares nothing with the library (`common::principal`).
+//!
+//! - The oracle is first checked against hand-derived truths (a cube on a slab, two
+//!   boxes, the peg over its holes, the L-block and its box, a cube in a notch, the
+//!   evaluator at hand-made poses) so a broken oracle cannot pass.
+//! - For each pair, every robust state it reads is cross-checked with the library's
+//!   `ContactScene` at the same pose, and must be among the generated graph's states.
+//!
+//! `ACSG_RECALL_DUMP=<dir> cargo test -p acsg --test recall -- --ignored dump` writes the
+//! oracle's states per pair as JSON lines, to diff against the generator, and the
+//! generated states whose witness the independent evaluator reads otherwise.
+
+mod common;
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use acsg::contact::{ContactKind, ContactScene, PrincipalContact};
+use acsg::graph::{Options, generate};
+use acsg::model::{EdgeId, ElementId, FaceId, Part, VertexId};
+use acsg::pose::{Bounds, Pose};
+use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
+use common::principal::{Evaluator, Verdict, describe_state};
+use common::slices::{
+    Oracle, OracleReport, SampleKind, Slice, SliceOptions, angles_of, check_pieces, checked_pieces,
+    minkowski_difference, part_volume_and_moment, piece_from_points, rotation_of, rotation_slices,
+};
+use glam::{DAffine3, DMat3, DVec3};
+use rayon::prelude::*;
+
+fn fixtures() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
+}
+
+fn fixture(name: &str) -> Part {
+    Part::from_path(&fixtures().join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+fn degrees_bounds(min: [f64; 6], max: [f64; 6]) -> Bounds {
+    Bounds::from_degrees(min, max).expect("valid bounds")
+}
+
+/// Slices given by their angles in degrees.
+fn slices_deg(angles: &[[f64; 3]]) -> Vec<Slice> {
+    angles
+        .iter()
+        .map(|a| Slice {
+            angles: a.map(f64::to_radians),
+            why: "test".into(),
+        })
+        .collect()
+}
+
+fn face_where(part: &Part, normal: DVec3, offset: f64) -> ElementId {
+    let i = part
+        .faces()
+        .iter()
+        .position(|f| f.normal.distance(normal) < 1e-12 && (f.offset - offset).abs() < 1e-9)
+        .unwrap_or_else(|| panic!("{}: no face with normal {normal} at {offset}", part.name()));
+    ElementId::Face(FaceId(i as u32))
+}
+
+fn vertex_at(part: &Part, p: DVec3) -> ElementId {
+    let i = part
+        .vertices()
+        .iter()
+        .position(|v| v.position.distance(p) < 1e-12)
+        .unwrap_or_else(|| panic!("{}: no vertex at {p}", part.name()));
+    ElementId::Vertex(VertexId(i as u32))
+}
+
+fn edge_between(part: &Part, p: DVec3, q: DVec3) -> ElementId {
+    let (a, b) = (vertex_at(part, p), vertex_at(part, q));
+    let i = part
+        .edges()
+        .iter()
+        .position(|e| {
+            let ends = e.vertices.map(ElementId::Vertex);
+            ends == [a, b] || ends == [b, a]
+        })
+        .unwrap_or_else(|| panic!("{}: no edge {p} - {q}", part.name()));
+    ElementId::Edge(EdgeId(i as u32))
+}
+
+fn contact(fixed: ElementId, moving: ElementId, kind: ContactKind) -> PrincipalContact {
+    PrincipalContact { fixed, moving, kind }
+}
+
+fn states_of(report: &OracleReport) -> BTreeSet<Vec<PrincipalContact>> {
+    report.states.iter().map(|s| s.contacts.clone()).collect()
+}
+
+fn assert_consistent(report: &OracleReport) {
+    assert!(
+        report.inconsistencies.is_empty(),
+        "the slice construction and the evaluator disagree: {:?}",
+        report.inconsistencies
+    );
+}
+
+fn show(states: &BTreeSet<Vec<PrincipalContact>>) -> String {
+    states
+        .iter()
+        .map(|s| describe_state(s))
+        .collect::<Vec<_>>()
+        .join("\n  ")
+}
+
+// ---------------------------------------------------------------------------------
+// The oracle's own pieces, against hand-derived truths
+// ---------------------------------------------------------------------------------
+
+#[test]
+fn part_volumes_from_faces_match_the_fixtures_table() {
+    for (name, volume) in [
+        ("block_with_hole.off", 455_000.0),
+        ("block_with_tight_hole.off", 460_096.875),
+        ("block_with_chamfered_hole.off", 1_360_000.0 / 3.0),
+        ("l_block.off", 1_500_000.0),
+        ("peg.off", 62_720.0),
+    ] {
+        let part = fixture(name);
+        let (v, m) = part_volume_and_moment(&part);
+        assert!((v - volume).abs() < 1e-9 * volume, "{name}: {v} != {volume}");
+        // The blocks with a hole are symmetric about x = y = 50.
+        if name.starts_with("block") {
+            assert!(
+                (m / v - DVec3::new(50.0, 50.0, m.z / v)).length() < 1e-9,
+                "{name}: centroid {}",
+                m / v
+            );
+        }
+        checked_pieces(&part).unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
+#[test]
+fn a_piece_hull_of_a_box_has_its_volume_moment_and_three_edge_directions() {
+    let corners: Vec<DVec3> = (0..8)
+        .map(|i| {
+            DVec3::new(
+                (i & 1) as f64 * 2.0,
+                (i >> 1 & 1) as f64 * 3.0,
+                (i >> 2 & 1) as f64 * 4.0,
+            )
+        })
+        .collect();
+    let piece = piece_from_points(&corners, 1e-9);
+    assert!((piece.volume - 24.0).abs() < 1e-12);
+    assert!((piece.moment / piece.volume - DVec3::new(1.0, 1.5, 2.0)).length() < 1e-12);
+    assert_eq!(piece.normals.len(), 6);
+    assert_eq!(piece.edge_directions.len(), 3);
+}
+
+#[test]
+fn pieces_that_do_not_add_up_to_the_part_are_caught() {
+    let part = fixture("block_with_hole.off");
+    let pieces = checked_pieces(&part).expect("the block's pieces add up");
+    assert!(pieces.len() >= 2);
+    // One piece missing: the volume is short.
+    let missing = check_pieces(&part, pieces[1..].to_vec());
+    assert!(missing.is_err_and(|e| e.contains("volume")));
+    // One piece moved: same volume, another first moment.
+    let mut moved = pieces.clone();
+    let shifted: Vec<DVec3> = moved[0].points.iter().map(|p| *p + DVec3::new(1.0, 0.0, 0.0)).collect();
+    moved[0] = piece_from_points(&shifted, 1e-9);
+    assert!(check_pieces(&part, moved).is_err_and(|e| e.contains("moment")));
+}
+
+#[test]
+fn pose_angles_round_trip_through_rotations() {
+    for angles in [[0.1, -0.2, 0.3], [0.0, 0.0, 0.0], [-0.5, 0.4, -2.5], [3.0, 1.2, -0.1]] {
+        let back = angles_of(rotation_of(angles));
+        assert!(
+            rotation_of(back).abs_diff_eq(rotation_of(angles), 1e-14),
+            "{angles:?} -> {back:?}"
+        );
+        if angles[1].abs() < std::f64::consts::FRAC_PI_2 && angles.iter().all(|a| a.abs() < std::f64::consts::PI) {
+            assert!(
+                (0..3).all(|i| (back[i] - angles[i]).abs() < 1e-14),
+                "{angles:?} -> {back:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_difference_of_two_cubes_is_the_doubled_cube_and_turned_it_is_a_zonotope() {
+    let cube = fixture("cube.off");
+    let piece = piece_from_points(cube.convex_pieces()[0].vertices(), 1e-9);
+    let m = minkowski_difference(&piece, &piece, DMat3::IDENTITY, 10.0).expect("closes");
+    assert_eq!(m.facets.len(), 6);
+    for f in &m.facets {
+        assert!((f.offset - 10.0).abs() < 1e-12, "cube ⊕ −cube is [−10, 10]³: {f:?}");
+        assert_eq!(f.polygon.len(), 4);
+    }
+    // Turned generically, box ⊕ box is a zonotope of 6 generators: 2·C(6,2) = 30 facets.
+    let m = minkowski_difference(&piece, &piece, rotation_of([0.3, 0.2, 0.1]), 10.0).expect("closes");
+    assert_eq!(m.facets.len(), 30);
+}
+
+#[test]
+fn slices_include_identity_corners_and_aligned_rotations() {
+    let (l_block, box_part) = acsg::examples::l_block_and_box();
+    let bounds = acsg::examples::paper_bounds();
+    let slices = rotation_slices(&l_block, &box_part, &bounds, &SliceOptions::default());
+    assert_eq!(slices[0].angles, [0.0; 3]);
+    let r = std::f64::consts::PI / 10.0;
+    assert!(slices.iter().any(|s| s.angles == [r, r, r]));
+    assert!(slices.iter().any(|s| s.angles == [-r, 0.0, 0.0]));
+    // Every slice is in bounds; some aligned slices are not single-axis turns yet keep a
+    // face of the box antiparallel to a face of the L (the bottom on the floor: rotations
+    // about z only, so rx = ry = 0).
+    let lo = bounds.min.to_array();
+    let hi = bounds.max.to_array();
+    for s in &slices {
+        assert!(
+            (0..3).all(|i| s.angles[i] >= lo[i + 3] && s.angles[i] <= hi[i + 3]),
+            "{s:?}"
+        );
+    }
+    let bottom_on_floor = slices
+        .iter()
+        .filter(|s| {
+            let down = rotation_of(s.angles) * DVec3::NEG_Z;
+            down.distance(DVec3::NEG_Z) < 1e-12 && s.angles[2] != 0.0
+        })
+        .count();
+    assert!(
+        bottom_on_floor >= 3,
+        "{bottom_on_floor} slices with the bottom face flat"
+    );
+    // Edge-parallel-to-face slices: (R e)·n = 0 for some box edge e and L normal n,
+    // away from the axes.
+    let tilted_edge = slices.iter().any(|s| {
+        let r = rotation_of(s.angles);
+        let generic = s.angles.iter().all(|a| a.abs() > 1e-6);
+        let axes = [DVec3::X, DVec3::Y, DVec3::Z];
+        generic && axes.iter().any(|e| axes.iter().any(|n| (r * *e).dot(*n).abs() < 1e-12))
+    });
+    assert!(tilted_edge);
+}
+
+// ---------------------------------------------------------------------------------
+// The evaluator, at hand-made poses
+// ---------------------------------------------------------------------------------
+
+#[test]
+fn the_evaluator_reads_hand_made_poses() {
+    let (l_block, box_part) = acsg::examples::l_block_and_box();
+    let eval = Evaluator::new(&l_block, &box_part);
+    let floor = face_where(&l_block, DVec3::Z, 50.0);
+    let wall = face_where(&l_block, DVec3::NEG_X, -150.0);
+    let bottom = face_where(&box_part, DVec3::NEG_Z, -50.0);
+    let side = face_where(&box_part, DVec3::X, 150.0);
+    let ff = ContactKind::FaceFace;
+    let at = |p: [f64; 6]| eval.evaluate(&Pose::from_array(p));
+    // Assembled: flat on the floor and against the wall; the bottom edge along the
+    // concave edge is implied.
+    let mut both = vec![contact(floor, bottom, ff), contact(wall, side, ff)];
+    both.sort();
+    assert_eq!(at([0.0; 6]), Verdict::State(both));
+    assert_eq!(
+        at([0.0, 0.0, 10.0, 0.0, 0.0, 0.0]),
+        Verdict::State(vec![contact(wall, side, ff)])
+    );
+    assert_eq!(
+        at([-3.0, 1.0, 0.0, 0.0, 0.0, 0.0]),
+        Verdict::State(vec![contact(floor, bottom, ff)])
+    );
+    // Free space, a hair above the floor (not robust), and sunk into the floor.
+    assert_eq!(at([-3.0, 0.0, 5.0, 0.0, 0.0, 0.0]), Verdict::State(vec![]));
+    assert!(matches!(at([-3.0, 0.0, 1e-5, 0.0, 0.0, 0.0]), Verdict::NonRobust(_)));
+    assert!(matches!(at([-3.0, 0.0, -1.0, 0.0, 0.0, 0.0]), Verdict::Penetrating(_)));
+    // Turned 5° about x, it rests on its bottom edge y = 10 (f-e with the floor) and its
+    // side face stays in the plane x = 150 (f-f with the wall); the edge's end on the
+    // concave edge is implied by both.
+    let a = 5f64.to_radians();
+    // Rx(a) maps (x, 10, 50) to (x, 10 cos a − 50 sin a, 10 sin a + 50 cos a); lift it
+    // back to z = 50 and keep y.
+    let (y, z) = (10.0 * a.cos() - 50.0 * a.sin(), 10.0 * a.sin() + 50.0 * a.cos());
+    let pose = [0.0, 10.0 - y, 50.0 - z, a, 0.0, 0.0];
+    let low_edge = edge_between(&box_part, DVec3::new(50.0, 10.0, 50.0), DVec3::new(150.0, 10.0, 50.0));
+    let mut expected = vec![contact(floor, low_edge, ContactKind::FaceEdge), contact(wall, side, ff)];
+    expected.sort();
+    assert_eq!(at(pose), Verdict::State(expected));
+}
+
+#[test]
+fn the_evaluator_reads_a_vertex_on_the_slab_and_an_edge_crossing() {
+    let (slab, cube) = acsg::examples::cube_and_slab();
+    let eval = Evaluator::new(&slab, &cube);
+    let top = face_where(&slab, DVec3::Z, 0.0);
+    let angles = [0.3, 0.2, 0.1];
+    let r = rotation_of(angles);
+    let (low, _) = cube
+        .vertices()
+        .iter()
+        .map(|v| v.position)
+        .map(|p| (p, (r * p).z))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .unwrap();
+    let pose = Pose::from_array([0.0, 0.0, -(r * low).z, angles[0], angles[1], angles[2]]);
+    assert_eq!(
+        eval.evaluate(&pose),
+        Verdict::State(vec![contact(top, vertex_at(&cube, low), ContactKind::FaceVertex)])
+    );
+
+    // Two cubes: B's edge (0,0,0)-(10,0,0) crossing A's top edge x = 10, z = 10 at its
+    // middle (10, 5, 10), descending along (1, 1, −1) so that it clears A's top and
+    // right faces. The plane through both edges has normal m = (1, 0, 1)/√2, between
+    // A's face normals there; B is turned so that its edge's outward bisector
+    // (0, −1, −1)/√2 points along −m.
+    let a = fixture("cube.off");
+    let b = fixture("cube.off");
+    let eval = Evaluator::new(&a, &b);
+    let d = DVec3::new(1.0, 1.0, -1.0).normalize();
+    let m = DVec3::new(1.0, 0.0, 1.0).normalize();
+    let bisector = DVec3::new(0.0, -1.0, -1.0).normalize();
+    let r = DMat3::from_cols(d, -m, d.cross(-m))
+        * DMat3::from_cols(DVec3::X, bisector, DVec3::X.cross(bisector)).transpose();
+    let angles = angles_of(r);
+    let t = DVec3::new(10.0, 5.0, 10.0) - rotation_of(angles) * DVec3::new(5.0, 0.0, 0.0);
+    let pose = Pose::from_array([t.x, t.y, t.z, angles[0], angles[1], angles[2]]);
+    let edge_a = edge_between(&a, DVec3::new(10.0, 0.0, 10.0), DVec3::new(10.0, 10.0, 10.0));
+    let edge_b = edge_between(&b, DVec3::new(0.0, 0.0, 0.0), DVec3::new(10.0, 0.0, 0.0));
+    assert_eq!(
+        eval.evaluate(&pose),
+        Verdict::State(vec![contact(edge_a, edge_b, ContactKind::EdgeEdge)])
+    );
+}
+
+// ---------------------------------------------------------------------------------
+// The whole oracle on single slices, against hand-derived state sets
+// ---------------------------------------------------------------------------------
+
+#[test]
+fn cube_on_slab_at_identity_is_face_on_face_only() {
+    let (slab, cube) = acsg::examples::cube_and_slab();
+    let bounds = degrees_bounds([-1.0, -1.0, -1.0, 0.0, 0.0, 0.0], [1.0, 1.0, 1.0, 0.0, 0.0, 0.0]);
+    let report = Oracle::new(&slab, &cube, bounds).run(&slices_deg(&[[0.0; 3]]));
+    assert_consistent(&report);
+    let top = face_where(&slab, DVec3::Z, 0.0);
+    let bottom = face_where(&cube, DVec3::NEG_Z, 0.0);
+    let expected = BTreeSet::from([vec![contact(top, bottom, ContactKind::FaceFace)]]);
+    assert_eq!(states_of(&report), expected);
+}
+
+#[test]
+fn cube_on_slab_turned_about_x_rests_on_an_edge() {
+    let (slab, cube) = acsg::examples::cube_and_slab();
+    let bounds = degrees_bounds([-1.0, -1.0, -1.0, 10.0, 0.0, 0.0], [1.0, 1.0, 1.0, 10.0, 0.0, 0.0]);
+    let report = Oracle::new(&slab, &cube, bounds).run(&slices_deg(&[[10.0, 0.0, 0.0]]));
+    assert_consistent(&report);
+    // Rx(+10°) lowers y = 0, z = 0 the most: the bottom edge along x at y = 0.
+    let top = face_where(&slab, DVec3::Z, 0.0);
+    let edge = edge_between(&cube, DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0));
+    let expected = BTreeSet::from([vec![contact(top, edge, ContactKind::FaceEdge)]]);
+    assert_eq!(states_of(&report), expected);
+}
+
+#[test]
+fn cube_on_slab_turned_generically_rests_on_its_lowest_vertex() {
+    let (slab, cube) = acsg::examples::cube_and_slab();
+    let d = [10.0, 7.0, 3.0];
+    let bounds = degrees_bounds([-1.0, -1.0, -5.0, d[0], d[1], d[2]], [1.0, 1.0, 5.0, d[0], d[1], d[2]]);
+    let report = Oracle::new(&slab, &cube, bounds).run(&slices_deg(&[d]));
+    assert_consistent(&report);
+    // The height of a turned point is −sin(ry) x + cos(ry) sin(rx) y + cos(ry) cos(rx) z
+    // (Rz leaves it alone): with ry = 7° and rx = 10° the corner (10, 0, 0) is lowest.
+    let top = face_where(&slab, DVec3::Z, 0.0);
+    let corner = vertex_at(&cube, DVec3::new(10.0, 0.0, 0.0));
+    let expected = BTreeSet::from([vec![contact(top, corner, ContactKind::FaceVertex)]]);
+    assert_eq!(states_of(&report), expected);
+}
+
+#[test]
+fn two_cubes_in_general_position_show_every_facet_of_their_zonotope() {
+    // All translations around: the states are the 30 facets of cube ⊕ −R cube: 6 f-v
+    // (each face of A against B's vertex lowest along its normal), 6 v-f (mirror), 18
+    // e-e (one per pair of edge directions and side).
+    let a = fixture("cube.off");
+    let b = fixture("cube.off");
+    let d = [23.0, -31.0, 17.0];
+    let bounds = degrees_bounds(
+        [-30.0, -30.0, -30.0, d[0], d[1], d[2]],
+        [30.0, 30.0, 30.0, d[0], d[1], d[2]],
+    );
+    let report = Oracle::new(&a, &b, bounds).run(&slices_deg(&[d]));
+    assert_consistent(&report);
+    let r = rotation_of(d.map(f64::to_radians));
+    let lowest = |part: &Part, dir: DVec3, turn: DMat3| {
+        let p = part
+            .vertices()
+            .iter()
+            .map(|v| v.position)
+            .min_by(|p, q| dir.dot(turn * *p).total_cmp(&dir.dot(turn * *q)))
+            .unwrap();
+        vertex_at(part, p)
+    };
+    let mut expected: BTreeSet<Vec<PrincipalContact>> = BTreeSet::new();
+    for (i, f) in a.faces().iter().enumerate() {
+        let v = lowest(&b, f.normal, r);
+        expected.insert(vec![contact(
+            ElementId::Face(FaceId(i as u32)),
+            v,
+            ContactKind::FaceVertex,
+        )]);
+    }
+    for (i, f) in b.faces().iter().enumerate() {
+        let v = lowest(&a, r * f.normal, DMat3::IDENTITY);
+        expected.insert(vec![contact(
+            v,
+            ElementId::Face(FaceId(i as u32)),
+            ContactKind::VertexFace,
+        )]);
+    }
+    let found = states_of(&report);
+    let edge_edge: Vec<_> = found
+        .iter()
+        .filter(|s| s.len() == 1 && s[0].kind == ContactKind::EdgeEdge)
+        .collect();
+    assert_eq!(edge_edge.len(), 18, "{}", show(&found));
+    assert_eq!(found.len(), 30, "{}", show(&found));
+    let single: BTreeSet<_> = found
+        .iter()
+        .filter(|s| s[0].kind != ContactKind::EdgeEdge)
+        .cloned()
+        .collect();
+    assert_eq!(single, expected);
+}
+
+/// The peg over a block with a square hole, rotation pinned at identity: its four sides
+/// flat on the four hole walls, two at a time in the four corners of the hole, and its
+/// bottom on the block's top when it sits beside the hole (z = 40, |x| or |y| beyond the
+/// clearance). Nothing else: the peg never reaches the bottom, and its edge along a
+/// wall's rim at z = 40 is degenerate. `clearance` is the gap per side, `reach` the
+/// x, y bounds.
+fn peg_over_a_hole_at_identity(block: &str, hole: f64, clearance: f64, reach: f64) {
+    let block = fixture(block);
+    let peg = fixture("peg.off");
+    let bounds = degrees_bounds(
+        [-reach, -reach, 0.0, 0.0, 0.0, 0.0],
+        [reach, reach, 45.0, 0.0, 0.0, 0.0],
+    );
+    let report = Oracle::new(&block, &peg, bounds).run(&slices_deg(&[[0.0; 3]]));
+    assert_consistent(&report);
+    let ff = ContactKind::FaceFace;
+    let wall = |n: DVec3, at: f64| face_where(&block, n, n.dot(DVec3::splat(at)));
+    let side = |n: DVec3, at: f64| face_where(&peg, n, n.dot(DVec3::splat(at)));
+    // Hole walls face into the hole: x = hole has normal +x; the peg's x = 36 face −x.
+    let (lo, hi) = (hole, 100.0 - hole);
+    assert_eq!(36.0 - lo, clearance);
+    let pairs = [
+        (wall(DVec3::X, lo), side(DVec3::NEG_X, 36.0)),
+        (wall(DVec3::NEG_X, hi), side(DVec3::X, 64.0)),
+        (wall(DVec3::Y, lo), side(DVec3::NEG_Y, 36.0)),
+        (wall(DVec3::NEG_Y, hi), side(DVec3::Y, 64.0)),
+    ];
+    let mut expected: BTreeSet<Vec<PrincipalContact>> = pairs.iter().map(|&(w, s)| vec![contact(w, s, ff)]).collect();
+    for (x, y) in [(0, 2), (0, 3), (1, 2), (1, 3)] {
+        let mut both = vec![contact(pairs[x].0, pairs[x].1, ff), contact(pairs[y].0, pairs[y].1, ff)];
+        both.sort();
+        expected.insert(both);
+    }
+    let top = face_where(&block, DVec3::Z, 50.0);
+    let bottom = face_where(&peg, DVec3::NEG_Z, -10.0);
+    expected.insert(vec![contact(top, bottom, ff)]);
+    assert_eq!(states_of(&report), expected, "found:\n  {}", show(&states_of(&report)));
+}
+
+#[test]
+fn peg_over_the_hole_at_identity_shows_the_nine_face_states() {
+    peg_over_a_hole_at_identity("block_with_hole.off", 35.0, 1.0, 2.0);
+}
+
+#[test]
+fn peg_over_the_tight_hole_at_identity_shows_the_nine_face_states() {
+    peg_over_a_hole_at_identity("block_with_tight_hole.off", 35.875, 0.125, 1.0);
+}
+
+/// A 40 mm cube with the corner [20, 40]³ cut away: a concave corner where three faces
+/// (x = 20, y = 20, z = 20, facing into the notch) meet. Built from the 7 occupied 20 mm
+/// cells' outer faces.
+fn notched_cube() -> Part {
+    let occupied = |c: [i32; 3]| c.iter().all(|&i| (0..2).contains(&i)) && c != [1, 1, 1];
+    let index = |p: [i32; 3]| (p[0] + 3 * p[1] + 9 * p[2]) as u32;
+    let positions: Vec<DVec3> = (0..27)
+        .map(|i| DVec3::new((i % 3) as f64, (i / 3 % 3) as f64, (i / 9) as f64) * 20.0)
+        .collect();
+    let mut polygons = Vec::new();
+    for cell in (0..8).map(|i| [i & 1, i >> 1 & 1, i >> 2]) {
+        if !occupied(cell) {
+            continue;
+        }
+        for axis in 0..3 {
+            for side in [0, 1] {
+                let mut next = cell;
+                next[axis] += if side == 1 { 1 } else { -1 };
+                if occupied(next) {
+                    continue;
+                }
+                // The cell's face on this side, its corners round the other two axes.
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                let mut quad: Vec<u32> = [(0, 0), (1, 0), (1, 1), (0, 1)]
+                    .iter()
+                    .map(|&(a, b)| {
+                        let mut p = cell;
+                        p[axis] += side;
+                        p[u] += a;
+                        p[v] += b;
+                        index(p)
+                    })
+                    .collect();
+                // (u, v, axis) is right-handed: counter-clockwise about +axis.
+                if side == 0 {
+                    quad.reverse();
+                }
+                polygons.push(quad);
+            }
+        }
+    }
+    let soup = acsg::io::MeshSoup {
+        positions,
+        polygons,
+        polygon_lines: vec![],
+        polygon_noun: "face",
+    };
+    Part::try_new(&soup, "notched cube").expect("the notched cube is a valid solid")
+}
+
+/// A 10 mm cube turned generically, pushed into the notch: on that slice its translations
+/// touching all three notch faces are one point, where the cube's lowest vertex along
+/// each face normal rests on that face (three f-v, a vertex of U where facets of three
+/// different M's meet); the three pairs hold on the segments between.
+#[test]
+fn a_cube_in_a_notch_rests_on_three_faces_at_one_point_of_its_slice() {
+    let block = notched_cube();
+    assert_eq!(block.faces().len(), 9);
+    let cube = fixture("cube.off");
+    let d = [3.0, -4.0, 5.0];
+    let bounds = degrees_bounds(
+        [15.0, 15.0, 15.0, d[0], d[1], d[2]],
+        [25.0, 25.0, 25.0, d[0], d[1], d[2]],
+    );
+    let report = Oracle::new(&block, &cube, bounds).run(&slices_deg(&[d]));
+    assert_consistent(&report);
+    let r = rotation_of(d.map(f64::to_radians));
+    let rests = |axis: DVec3| {
+        let face = face_where(&block, axis, 20.0);
+        let low = cube
+            .vertices()
+            .iter()
+            .map(|v| v.position)
+            .min_by(|p, q| axis.dot(r * *p).total_cmp(&axis.dot(r * *q)))
+            .unwrap();
+        contact(face, vertex_at(&cube, low), ContactKind::FaceVertex)
+    };
+    let [x, y, z] = [DVec3::X, DVec3::Y, DVec3::Z].map(rests);
+    let vertices: BTreeSet<ElementId> = [x, y, z].iter().map(|c| c.moving).collect();
+    assert_eq!(vertices.len(), 3, "three different vertices rest on the three faces");
+    let found = states_of(&report);
+    let sorted = |mut v: Vec<PrincipalContact>| {
+        v.sort();
+        v
+    };
+    for state in [
+        vec![x, y, z],
+        vec![x, y],
+        vec![y, z],
+        vec![x, z],
+        vec![x],
+        vec![y],
+        vec![z],
+    ] {
+        let state = sorted(state);
+        assert!(
+            found.contains(&state),
+            "{} not found among\n  {}",
+            describe_state(&state),
+            show(&found)
+        );
+    }
+    assert!(
+        report
+            .robust_samples
+            .iter()
+            .any(|(s, c)| c.len() == 3 && s.kind == SampleKind::Triple)
+    );
+}
+
+/// The L-block and its box with the rotation pinned at identity: on the floor, against
+/// the wall, both, and on top of the upright (z = 100, x > 0).
+#[test]
+fn l_block_and_box_at_identity_show_the_four_face_states() {
+    let (l_block, box_part) = acsg::examples::l_block_and_box();
+    let bounds = degrees_bounds([-5.0, -5.0, 0.0, 0.0, 0.0, 0.0], [5.0, 5.0, 240.0, 0.0, 0.0, 0.0]);
+    let report = Oracle::new(&l_block, &box_part, bounds).run(&slices_deg(&[[0.0; 3]]));
+    assert_consistent(&report);
+    let ff = ContactKind::FaceFace;
+    let floor = contact(
+        face_where(&l_block, DVec3::Z, 50.0),
+        face_where(&box_part, DVec3::NEG_Z, -50.0),
+        ff,
+    );
+    let wall = contact(
+        face_where(&l_block, DVec3::NEG_X, -150.0),
+        face_where(&box_part, DVec3::X, 150.0),
+        ff,
+    );
+    let upright_top = contact(
+        face_where(&l_block, DVec3::Z, 150.0),
+        face_where(&box_part, DVec3::NEG_Z, -50.0),
+        ff,
+    );
+    let mut both = vec![floor, wall];
+    both.sort();
+    let expected = BTreeSet::from([vec![floor], vec![wall], both, vec![upright_top]]);
+    assert_eq!(states_of(&report), expected, "found:\n  {}", show(&states_of(&report)));
+}
+
+// ---------------------------------------------------------------------------------
+// The pairs: oracle runs (shared by the tests of one pair), cross-checks, recall
+// ---------------------------------------------------------------------------------
+
+/// One pair of parts with its bounds, the files to reproduce it with, and the oracle's
+/// report on the default slices.
+struct PairRun {
+    name: &'static str,
+    fixed: Part,
+    moving: Part,
+    bounds: Bounds,
+    files: (&'static str, &'static str),
+    report: OracleReport,
+}
+
+fn peg_bounds(xy: f64, z: f64, degrees: f64) -> Bounds {
+    degrees_bounds(
+        [-xy, -xy, 0.0, -degrees, -degrees, -degrees],
+        [xy, xy, z, degrees, degrees, degrees],
+    )
+}
+
+fn pair_run(index: usize) -> &'static PairRun {
+    static RUNS: [OnceLock<PairRun>; 4] = [const { OnceLock::new() }; 4];
+    RUNS[index].get_or_init(|| {
+        let (name, fixed, moving, bounds, files) = match index {
+            0 => {
+                let (a, b) = acsg::examples::l_block_and_box();
+                (
+                    "l_block_and_box",
+                    a,
+                    b,
+                    acsg::examples::paper_bounds(),
+                    ("l_block.off", "box.off"),
+                )
+            }
+            1 => (
+                "block_with_chamfered_hole_and_peg",
+                fixture("block_with_chamfered_hole.off"),
+                fixture("peg.off"),
+                peg_bounds(2.0, 45.0, 2.0),
+                ("block_with_chamfered_hole.off", "peg.off"),
+            ),
+            2 => (
+                "block_with_hole_and_peg",
+                fixture("block_with_hole.off"),
+                fixture("peg.off"),
+                peg_bounds(2.0, 45.0, 2.0),
+                ("block_with_hole.off", "peg.off"),
+            ),
+            _ => (
+                "block_with_tight_hole_and_peg",
+                fixture("block_with_tight_hole.off"),
+                fixture("peg.off"),
+                peg_bounds(1.0, 60.0, 3.0),
+                ("block_with_tight_hole.off", "peg.off"),
+            ),
+        };
+        let oracle = Oracle::new(&fixed, &moving, bounds);
+        let report = oracle.run(&oracle.default_slices());
+        let s = &report.stats;
+        eprintln!(
+            "{name}: {} oracle states from {} slices ({} skipped) in {:.1?}: {} samples on the boundary, {} robust \
+             ({} with a degenerate contact), {} not robust",
+            report.states.len(),
+            s.slices,
+            s.skipped_slices,
+            s.elapsed,
+            s.samples,
+            s.robust,
+            s.degenerate,
+            s.non_robust
+        );
+        PairRun {
+            name,
+            fixed,
+            moving,
+            bounds,
+            files,
+            report,
+        }
+    })
+}
+
+impl PairRun {
+    fn reproduce(&self, pose: &Pose) -> String {
+        format!(
+            "acsg contacts fixtures/{} fixtures/{} --pose={pose}",
+            self.files.0, self.files.1
+        )
+    }
+
+    /// Every robust sample read by the library's contact scene: same state, no
+    /// penetration, no pair closer than the separation.
+    fn cross_check(&self) {
+        assert_consistent(&self.report);
+        let stats = &self.report.stats;
+        assert!(
+            stats.skipped_slices * 100 <= stats.slices,
+            "{}: {} of {} slices skipped (a Minkowski difference whose facets do not close)",
+            self.name,
+            stats.skipped_slices,
+            stats.slices
+        );
+        let scene = ContactScene::new(&self.fixed, &self.moving);
+        let evaluator = Evaluator::new(&self.fixed, &self.moving);
+        let least_gap = SEPARATION_REL * scene.scale();
+        // Every robust sample, in parallel; the disagreements in sample order.
+        let disagreements: Vec<_> = self
+            .report
+            .robust_samples
+            .par_iter()
+            .filter_map(|(sample, state)| {
+                let report = scene.evaluate(&sample.pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+                let gap_ok = report.min_gap.is_none_or(|g| g >= least_gap);
+                let agree = report.contacts == *state && report.penetration == 0.0 && gap_ok;
+                (!agree).then_some((sample, state, report))
+            })
+            .collect();
+        let count = disagreements.len();
+        let mut failures = String::new();
+        for (k, (sample, state, report)) in disagreements.iter().take(10).enumerate() {
+            let _ = writeln!(
+                failures,
+                "  at {} ({} sample, slice {:?}):\n    oracle  {}\n    library {} penetration {} min_gap {:?}\n    {}",
+                sample.pose,
+                sample.kind.label(),
+                self.report.slices[sample.slice].why,
+                describe_state(state),
+                describe_state(&report.contacts),
+                report.penetration,
+                report.min_gap,
+                self.reproduce(&sample.pose)
+            );
+            if k < 3 {
+                let touching = evaluator.explain(&sample.pose).replace('\n', "\n      ");
+                let _ = writeln!(failures, "    touching pairs the oracle sees:\n      {touching}");
+            }
+        }
+        assert!(
+            count == 0,
+            "{}: the library's ContactScene disagrees with the oracle's evaluator at {count} of {} robust poses:\n{failures}",
+            self.name,
+            self.report.robust_samples.len()
+        );
+    }
+
+    /// Every oracle state must be a state of the generated graph.
+    fn recall(&self) {
+        let graph = generate(&self.fixed, &self.moving, &self.bounds, &Options::default());
+        let generated: BTreeSet<&Vec<PrincipalContact>> = graph.states.iter().map(|s| &s.contacts).collect();
+        let missing: Vec<_> = self
+            .report
+            .states
+            .iter()
+            .filter(|s| !generated.contains(&s.contacts))
+            .collect();
+        let mut message = String::new();
+        for s in &missing {
+            let _ = writeln!(
+                message,
+                "  {}  ({} {} samples; first on slice {:?})\n    at {}\n    {}",
+                describe_state(&s.contacts),
+                s.samples,
+                s.first.kind.label(),
+                self.report.slices[s.first.slice].why,
+                s.first.pose,
+                self.reproduce(&s.first.pose)
+            );
+        }
+        assert!(
+            missing.is_empty(),
+            "{}: the generator misses {} of the {} states the oracle found ({} generated):\n{message}",
+            self.name,
+            missing.len(),
+            self.report.states.len(),
+            graph.states.len() - 1
+        );
+    }
+
+    /// Writes, as JSON lines (poses as x, y, z, rx, ry, rz in radians):
+    /// - `<pair>.oracle.jsonl`: every oracle state with a pose showing it, how many
+    ///   samples showed it and where the first one was taken, and whether the generated
+    ///   graph has it;
+    /// - `<pair>.witnesses.jsonl`: the generated states whose witness the independent
+    ///   evaluator reads otherwise (another state, not robust, or penetrating).
+    fn dump(&self, dir: &Path) -> std::io::Result<[PathBuf; 2]> {
+        let graph = generate(&self.fixed, &self.moving, &self.bounds, &Options::default());
+        let generated: BTreeSet<&Vec<PrincipalContact>> = graph.states.iter().map(|s| &s.contacts).collect();
+        let labels = |state: &[PrincipalContact]| -> Vec<String> {
+            state
+                .iter()
+                .map(|c| format!("{} {} {}", c.kind.label(), c.fixed, c.moving))
+                .collect()
+        };
+        let mut oracle = String::new();
+        for s in &self.report.states {
+            let line = serde_json::json!({
+                "contacts": labels(&s.contacts),
+                "generated": generated.contains(&s.contacts),
+                "pose": s.first.pose.to_array(),
+                "samples": s.samples,
+                "sample": s.first.kind.label(),
+                "slice": self.report.slices[s.first.slice].why,
+                "reproduce": self.reproduce(&s.first.pose),
+            });
+            let _ = writeln!(oracle, "{line}");
+        }
+        // Witnesses are built to DOMAIN.md's 1e-9 L, not to the oracle's round-off.
+        let evaluator = Evaluator::with_touch(&self.fixed, &self.moving, CONTACT_REL);
+        let mut witnesses = String::new();
+        for state in &graph.states[1..] {
+            let Some(pose) = state.witness else { continue };
+            let read = match evaluator.evaluate(&pose) {
+                Verdict::State(contacts) if contacts == state.contacts => continue,
+                Verdict::State(contacts) => serde_json::json!({ "state": labels(&contacts) }),
+                Verdict::NonRobust(why) => serde_json::json!({ "not robust": why }),
+                Verdict::Penetrating(why) => serde_json::json!({ "penetrating": why }),
+            };
+            let line = serde_json::json!({
+                "contacts": labels(&state.contacts),
+                "pose": pose.to_array(),
+                "independent evaluator": read,
+                "reproduce": self.reproduce(&pose),
+            });
+            let _ = writeln!(witnesses, "{line}");
+        }
+        let paths = [
+            dir.join(format!("{}.oracle.jsonl", self.name)),
+            dir.join(format!("{}.witnesses.jsonl", self.name)),
+        ];
+        std::fs::write(&paths[0], oracle)?;
+        std::fs::write(&paths[1], witnesses)?;
+        Ok(paths)
+    }
+}
+
+#[test]
+fn l_block_and_box_oracle_agrees_with_the_contact_scene() {
+    pair_run(0).cross_check();
+}
+
+#[test]
+#[ignore = "issue 12: the generator still misses oracle states; un-ignored when it finds them all"]
+fn l_block_and_box_generator_finds_every_oracle_state() {
+    pair_run(0).recall();
+}
+
+#[test]
+fn chamfered_hole_and_peg_oracle_agrees_with_the_contact_scene() {
+    pair_run(1).cross_check();
+}
+
+#[test]
+#[ignore = "issue 12: the generator still misses oracle states; un-ignored when it finds them all"]
+fn chamfered_hole_and_peg_generator_finds_every_oracle_state() {
+    pair_run(1).recall();
+}
+
+#[test]
+fn hole_and_peg_oracle_agrees_with_the_contact_scene() {
+    pair_run(2).cross_check();
+}
+
+#[test]
+#[ignore = "issue 12: the generator still misses oracle states; un-ignored when it finds them all"]
+fn hole_and_peg_generator_finds_every_oracle_state() {
+    pair_run(2).recall();
+}
+
+#[test]
+fn tight_hole_and_peg_oracle_agrees_with_the_contact_scene() {
+    pair_run(3).cross_check();
+}
+
+#[test]
+#[ignore = "issue 12: the generator still misses oracle states; un-ignored when it finds them all"]
+fn tight_hole_and_peg_generator_finds_every_oracle_state() {
+    pair_run(3).recall();
+}
+
+/// Writes every pair's oracle states, and the generated states whose witnesses the
+/// independent evaluator reads otherwise, to `$ACSG_RECALL_DUMP` (default
+/// `target/recall-dump`) as JSON lines (see `PairRun::dump`).
+#[test]
+#[ignore = "writes files; run on demand"]
+fn dump_oracle_states() {
+    let dir = std::env::var_os("ACSG_RECALL_DUMP")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/recall-dump"));
+    std::fs::create_dir_all(&dir).expect("dump directory");
+    for index in 0..4 {
+        for path in pair_run(index).dump(&dir).expect("dump written") {
+            eprintln!("wrote {}", path.display());
+        }
+    }
+}
