@@ -143,6 +143,11 @@ struct RunFlags {
     /// Worker threads (0: one per core). The output does not depend on it.
     #[arg(long)]
     threads: Option<usize>,
+    /// How hard to search and prove each candidate state before leaving it undecided:
+    /// a multiple of the default budget (1). Higher finds states that hold only on
+    /// slivers of the bounds and decides more candidates, at more time.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    effort: Option<u32>,
     /// Write zeros for the stage times, so that runs give identical bytes.
     #[arg(long)]
     no_timings: bool,
@@ -306,6 +311,9 @@ fn generate_and_write(
     options.degenerate |= flags.degenerate;
     if let Some(threads) = flags.threads {
         options.threads = threads;
+    }
+    if let Some(effort) = flags.effort {
+        options.effort = effort;
     }
     let bar = (!flags.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = indicatif::ProgressBar::new(0);

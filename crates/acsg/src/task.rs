@@ -16,6 +16,7 @@
 //! [options]                      # optional
 //! degenerate = false             # keep states with a degenerate contact
 //! threads = 0                    # 0: one per core
+//! effort = 1                     # search and proof budget, a multiple of the default
 //! assembled = [0, 0, 0, 0, 0, 0] # G as x, y, z, rx, ry, rz (degrees)
 //! ```
 
@@ -92,7 +93,13 @@ struct OptionsTable {
     degenerate: bool,
     #[serde(default)]
     threads: usize,
+    #[serde(default = "default_effort")]
+    effort: u32,
     assembled: Option<[f64; 6]>,
+}
+
+fn default_effort() -> u32 {
+    1
 }
 
 /// A run to do: what the task file says, with the part paths resolved.
@@ -161,6 +168,7 @@ impl Task {
         let mut options = Options {
             degenerate: file.options.degenerate,
             threads: file.options.threads,
+            effort: file.options.effort.max(1),
             ..Options::default()
         };
         if let Some(g) = file.options.assembled {

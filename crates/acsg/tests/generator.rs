@@ -84,7 +84,7 @@ fn closure(part: &Part, e: ElementId) -> (Vec<ElementId>, Vec<ElementId>) {
 }
 
 #[test]
-fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_one_ppc_steps() {
+fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_touching_regions() {
     let (l_block, box_part) = acsg::examples::l_block_and_box();
     assert_eq!(acsg::model::ppc_count(&l_block, &box_part).total(), 328);
     let bounds = acsg::examples::paper_bounds();
@@ -110,7 +110,27 @@ fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_one_ppc_
     for &[a, b] in &graph.edges {
         let (small, large) = (&graph.states[a], &graph.states[b]);
         if a == 0 {
-            assert_eq!(large.contacts.len(), 1, "free space joins single contacts only");
+            // Neighbours are states whose regions touch (DOMAIN.md section 4): next to
+            // the state's witness some pose is free (the parts apart, clean).
+            let witness = large.witness.unwrap().to_array();
+            let mut rng = 0x5EED_u64 ^ b as u64;
+            let free = (0..2000).any(|_| {
+                let pose: [f64; 6] = std::array::from_fn(|k| {
+                    rng ^= rng << 13;
+                    rng ^= rng >> 7;
+                    rng ^= rng << 17;
+                    let u = (rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+                    witness[k] + u * if k < 3 { 0.05 } else { 2e-4 }
+                });
+                let pose = acsg::pose::Pose::from_array(pose);
+                let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+                bounds.contains(&pose, 0.0, 0.0) && report.contacts.is_empty() && report.penetration == 0.0
+            });
+            assert!(
+                free,
+                "free space and state {b} ({:?}): no free pose next to its witness",
+                large.contacts
+            );
             continue;
         }
         let (small, large) = if (small.dof, large.contacts.len()) >= (large.dof, small.contacts.len()) {
@@ -142,6 +162,21 @@ fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_one_ppc_
             );
         }
         assert!(large.dof <= small.dof, "edge {a}-{b} does not constrain more");
+    }
+    // No exclusion rule of the decisions rules out a state's own witness (the rules
+    // are sound on the generator's verified witnesses too).
+    let problem = acsg::feasibility::Problem::new(&l_block, &box_part, bounds, DAffine3::IDENTITY);
+    for state in &graph.states[1..] {
+        let x = state.witness.unwrap().to_array();
+        let at = Bounds::try_new(x, x).unwrap();
+        assert_eq!(
+            problem.exclusion(&state.contacts, &at),
+            None,
+            "state {} {:?} at {:?}",
+            state.id,
+            state.contacts,
+            x
+        );
     }
     // Connected: a search from free space reaches every state.
     let mut seen = vec![false; graph.states.len()];

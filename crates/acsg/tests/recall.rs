@@ -772,6 +772,40 @@ impl PairRun {
         );
     }
 
+    /// No exclusion rule of the decisions rules out a small box around an oracle
+    /// witness (the rules are sound), nor the witness itself.
+    fn exclusions_are_sound(&self) {
+        let problem = acsg::feasibility::Problem::new(&self.fixed, &self.moving, self.bounds, DAffine3::IDENTITY);
+        let mut wrong = String::new();
+        let mut count = 0;
+        for s in &self.report.states {
+            let x = s.first.pose.to_array();
+            let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
+            for eps in [0.0, 1e-7, 1e-4] {
+                let around =
+                    |sign: f64| -> [f64; 6] { std::array::from_fn(|k| (x[k] + sign * eps).clamp(lo[k], hi[k])) };
+                let Ok(b) = Bounds::try_new(around(-1.0), around(1.0)) else {
+                    continue;
+                };
+                if let Some(rule) = problem.exclusion(&s.contacts, &b) {
+                    count += 1;
+                    let _ = writeln!(
+                        wrong,
+                        "  {} excluded by {rule:?} within {eps} of {}\n    {}",
+                        describe_state(&s.contacts),
+                        s.first.pose,
+                        self.reproduce(&s.first.pose)
+                    );
+                }
+            }
+        }
+        assert!(
+            count == 0,
+            "{}: {count} boxes around oracle witnesses excluded:\n{wrong}",
+            self.name
+        );
+    }
+
     /// Every oracle state must be a state of the generated graph.
     fn recall(&self) {
         let graph = generate(&self.fixed, &self.moving, &self.bounds, &Options::default());
@@ -868,6 +902,11 @@ fn l_block_and_box_oracle_agrees_with_the_contact_scene() {
 }
 
 #[test]
+fn l_block_and_box_oracle_witnesses_survive_every_exclusion_rule() {
+    pair_run(0).exclusions_are_sound();
+}
+
+#[test]
 #[ignore = "issue 12: the generator still misses oracle states; un-ignored when it finds them all"]
 fn l_block_and_box_generator_finds_every_oracle_state() {
     pair_run(0).recall();
@@ -876,6 +915,11 @@ fn l_block_and_box_generator_finds_every_oracle_state() {
 #[test]
 fn chamfered_hole_and_peg_oracle_agrees_with_the_contact_scene() {
     pair_run(1).cross_check();
+}
+
+#[test]
+fn chamfered_hole_and_peg_oracle_witnesses_survive_every_exclusion_rule() {
+    pair_run(1).exclusions_are_sound();
 }
 
 #[test]
@@ -890,6 +934,11 @@ fn hole_and_peg_oracle_agrees_with_the_contact_scene() {
 }
 
 #[test]
+fn hole_and_peg_oracle_witnesses_survive_every_exclusion_rule() {
+    pair_run(2).exclusions_are_sound();
+}
+
+#[test]
 #[ignore = "issue 12: the generator still misses oracle states; un-ignored when it finds them all"]
 fn hole_and_peg_generator_finds_every_oracle_state() {
     pair_run(2).recall();
@@ -898,6 +947,11 @@ fn hole_and_peg_generator_finds_every_oracle_state() {
 #[test]
 fn tight_hole_and_peg_oracle_agrees_with_the_contact_scene() {
     pair_run(3).cross_check();
+}
+
+#[test]
+fn tight_hole_and_peg_oracle_witnesses_survive_every_exclusion_rule() {
+    pair_run(3).exclusions_are_sound();
 }
 
 #[test]

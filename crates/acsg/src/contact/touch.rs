@@ -13,7 +13,7 @@
 use glam::DVec3;
 
 use super::placed::PlacedPart;
-use super::queries::{PlanarRegion, Segment, point_segment, segment_segment};
+use super::queries::{PlanarRegion, Segment, clip_convex, point_segment, segment_segment};
 use crate::model::{ElementId, FaceId, Part};
 
 /// The set I(a, b) where two elements touch.
@@ -230,22 +230,6 @@ fn face_face(f: &PlanarRegion<'_>, g: &PlanarRegion<'_>, tol: f64) -> Option<Tou
         }
     }
     (!pieces.is_empty()).then_some(TouchSet::Region { normal, pieces })
-}
-
-/// The part of a convex polygon where `n · p <= d`.
-fn clip_convex(poly: &[DVec3], n: DVec3, d: f64) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(poly.len() + 1);
-    for (i, &p) in poly.iter().enumerate() {
-        let q = poly[(i + 1) % poly.len()];
-        let (sp, sq) = (n.dot(p) - d, n.dot(q) - d);
-        if sp <= 0.0 {
-            out.push(p);
-        }
-        if (sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0) {
-            out.push(p + (q - p) * (sp / (sp - sq)));
-        }
-    }
-    out
 }
 
 /// Twice the area over the perimeter: a lower bound of the polygon's inradius scale

@@ -83,15 +83,15 @@ const NEAR_REL: f64 = 1e-4;
 
 /// Boxes examined before the first optimisation: cheap proofs come first.
 const PRUNE_BUDGET: usize = 256;
-/// Boxes of rotations examined while searching inside them.
-const SEARCH_BUDGET: usize = 2048;
-/// Boxes examined by the last proofs, split in every component.
-const PROOF_BUDGET: usize = 2048;
+/// Boxes of rotations examined while searching inside them, per unit of effort.
+const SEARCH_BUDGET: usize = 256;
+/// Boxes examined by the last proofs, split in every component, per unit of effort.
+const PROOF_BUDGET: usize = 256;
 /// A box of rotations that survives is searched by optimisation every this many
 /// levels of depth (three: each angle halved once).
 const SEARCH_EVERY: u32 = 3;
-/// Local optimisations inside boxes, at most, per candidate.
-const BOX_SEARCHES: usize = 48;
+/// Local optimisations inside boxes, at most, per candidate and unit of effort.
+const BOX_SEARCHES: usize = 16;
 
 /// Where a search from the warm and constructive starts begins.
 pub(crate) struct Starts<'s> {
@@ -139,6 +139,25 @@ impl Problem<'_> {
         let mut others = Vec::new();
         let decision = self.decide_within(target, starts, &self.bounds, &mut others, stats);
         Decided { decision, others }
+    }
+
+    /// The rule that proves, on its own, that no pose in `bounds` shows `target` (the
+    /// contacts sorted), tried as the decision tries each box: rigid distances, the
+    /// rotation conditions, propagation, and the Lipschitz tests. `None` when none
+    /// does. Every rule is sound: a box around a verified witness is never excluded.
+    #[must_use]
+    pub fn exclusion(&self, target: &[PrincipalContact], bounds: &Bounds) -> Option<Rule> {
+        if !self.rigidly_compatible(target) {
+            return Some(Rule::RigidDistance);
+        }
+        let Some(links) = self.prover.links(target) else {
+            return Some(Rule::Propagation);
+        };
+        let conditions = Conditions {
+            links,
+            turns: self.turns(target),
+        };
+        self.exclude(target, &conditions, Mode::All, bounds).err()
     }
 
     /// Decides `target`, one contact below a known `state` with witness `witness`:
@@ -250,7 +269,8 @@ impl Problem<'_> {
         }
         // Then inside the boxes of rotations that stay open, level by level.
         let mut searches = 0;
-        let budget = PRUNE_BUDGET + SEARCH_BUDGET;
+        let effort = self.effort as usize;
+        let budget = PRUNE_BUDGET + SEARCH_BUDGET * effort;
         if let Some(decision) = self.branch(
             target,
             links,
@@ -271,7 +291,7 @@ impl Problem<'_> {
             links,
             Mode::All,
             &mut branching,
-            budget + PROOF_BUDGET,
+            budget + PROOF_BUDGET * effort,
             Some(&mut searches),
             others,
             stats,
@@ -317,22 +337,14 @@ impl Problem<'_> {
                 Ok(narrowed) => narrowed,
             };
             if let Some(count) = searches.as_deref_mut() {
-                if depth > 0 && depth % SEARCH_EVERY == 0 && *count < BOX_SEARCHES {
+                if depth > 0 && depth % SEARCH_EVERY == 0 && *count < BOX_SEARCHES * self.effort as usize {
                     *count += 1;
                     if let Some(pose) = self.search_from(target, narrowed.center(), &narrowed, others, stats) {
                         return Some(Decision::Witnessed(pose));
                     }
                 }
             }
-            let split = match mode {
-                // Along the angle the undecided rotation conditions change most, else
-                // by look-ahead.
-                Mode::Rotations => links
-                    .turns
-                    .split(&narrowed)
-                    .or_else(|| self.look_ahead(target, links, &narrowed)),
-                Mode::All => self.prover.split_component(&narrowed),
-            };
+            let split = self.look_ahead(target, links, mode, &narrowed);
             match split {
                 Some(k) => {
                     for half in halves(&narrowed, k) {
@@ -353,38 +365,51 @@ impl Problem<'_> {
         None
     }
 
-    /// The rotation component to split a box of the relaxed proof along: the one whose
-    /// halves come closest to exclusion (each excluded half counts 0, an open one the
-    /// mean share of the translation widths left after propagation), the widest on a
-    /// tie. An angle the contacts do not depend on (a turn about a face's normal) then
-    /// stays whole.
-    fn look_ahead(&self, target: &[PrincipalContact], links: &Conditions, b: &Bounds) -> Option<usize> {
-        let widest = self.prover.split_among(b, 3..6)?;
+    /// The component to split a box along (angles only in [`Mode::Rotations`]): the
+    /// one whose halves the tests exclude the most of. On a tie, among rotations, the
+    /// angle the undecided rotation conditions change the most (a turn about a face's
+    /// normal then stays whole), else the mean share of the translation widths left
+    /// after propagation, then the widest.
+    fn look_ahead(&self, target: &[PrincipalContact], links: &Conditions, mode: Mode, b: &Bounds) -> Option<usize> {
+        let components = match mode {
+            Mode::Rotations => 3..6,
+            Mode::All => 0..6,
+        };
+        let widest = self.prover.split_among(b, components.clone())?;
         let parent = b.width();
-        let score = |k: usize| -> f64 {
-            halves(b, k)
-                .iter()
-                .map(|half| match self.exclude(target, links, Mode::Rotations, half) {
-                    Err(_) => 0.0,
+        let score = |k: usize| -> (usize, f64) {
+            let mut excluded = 0;
+            let mut left = 0.0;
+            for half in halves(b, k) {
+                match self.exclude(target, links, mode, &half) {
+                    Err(_) => excluded += 1,
                     Ok(narrowed) => {
                         let w = narrowed.width();
-                        (0..3)
+                        left += (0..3)
                             .map(|j| if parent[j] > 0.0 { w[j] / parent[j] } else { 1.0 })
                             .sum::<f64>()
-                            / 3.0
+                            / 3.0;
                     }
-                })
-                .sum()
+                }
+            }
+            (excluded, left)
         };
-        let splittable: Vec<usize> = (3..6)
+        let scores: Vec<(usize, (usize, f64))> = components
             .filter(|&k| self.prover.split_among(b, k..k + 1).is_some())
+            .map(|k| (k, score(k)))
             .collect();
-        let scores: Vec<(usize, f64)> = splittable.iter().map(|&k| (k, score(k))).collect();
-        let best = scores.iter().map(|&(_, s)| s).fold(f64::INFINITY, f64::min);
-        if scores.iter().all(|&(_, s)| s == best) {
+        let most = scores.iter().map(|&(_, (e, _))| e).max()?;
+        if most > 0 {
+            return scores.iter().find(|&&(_, (e, _))| e == most).map(|&(k, _)| k);
+        }
+        if let Some(k) = links.turns.split(b).filter(|k| scores.iter().any(|&(j, _)| j == *k)) {
+            return Some(k);
+        }
+        let least = scores.iter().map(|&(_, (_, l))| l).fold(f64::INFINITY, f64::min);
+        if scores.iter().all(|&(_, (_, l))| l == least) {
             return Some(widest);
         }
-        scores.iter().find(|&&(_, s)| s == best).map(|&(k, _)| k)
+        scores.iter().find(|&&(_, (_, l))| l == least).map(|&(k, _)| k)
     }
 
     /// The exclusion tests of one box: the box narrowed by propagation when none
@@ -438,7 +463,7 @@ impl Problem<'_> {
         stats.optimisations += 1;
         let pose = self.solve(target, start, bounds);
         let report = self.inspect(&pose)?;
-        if !self.is_clean(&report) {
+        if !self.is_clean(&report, &pose) {
             return self.clear(target, pose, &report, bounds, stats);
         }
         let state = report.contacts;

@@ -66,6 +66,90 @@ pub fn primitive_contacts(fixed: &Part, moving: &Part) -> Vec<PrincipalContact> 
     out
 }
 
+/// Every single principal contact that can be a state on its own, the PPCs first
+/// ([`primitive_contacts`]), then the rest, each pair of elements once:
+/// - a face on a face, a convex edge in a face (a concave edge's part fills more than a
+///   half-space around it, so it cannot lie on a plane without penetrating);
+/// - a pointed non-convex vertex on a face (its edges all leave to one side);
+/// - a convex edge in a concave one, along it (e-e-t), a convex vertex in a concave
+///   edge or corner, and the mirror cases;
+/// - with `degenerate`, also the degenerate contacts of convex elements: e-v, v-e, v-v,
+///   e-e-t.
+#[must_use]
+pub fn single_contacts(fixed: &Part, moving: &Part, degenerate: bool) -> Vec<PrincipalContact> {
+    use ElementId::{Edge, Face, Vertex};
+    let mut out = primitive_contacts(fixed, moving);
+    let elements = |p: &Part| -> Vec<ElementId> {
+        (0..p.faces().len() as u32)
+            .map(|i| Face(FaceId(i)))
+            .chain((0..p.edges().len() as u32).map(|i| Edge(crate::model::EdgeId(i))))
+            .chain((0..p.vertices().len() as u32).map(|i| Vertex(crate::model::VertexId(i))))
+            .collect()
+    };
+    let convex = |p: &Part, e: ElementId| match e {
+        Face(_) => true,
+        Edge(x) => p.edge(x).convex,
+        Vertex(v) => p.vertex(v).convex,
+    };
+    for a in elements(fixed) {
+        for b in elements(moving) {
+            let (ca, cb) = (convex(fixed, a), convex(moving, b));
+            let wanted = match (a, b) {
+                (Face(_), Face(_)) => true,
+                (Face(_), Edge(_)) => cb,
+                (Edge(_), Face(_)) => ca,
+                (Face(_), Vertex(v)) => !cb && pointed(moving, v),
+                (Vertex(v), Face(_)) => !ca && pointed(fixed, v),
+                // A crossing is a PPC; two edges along each other need one in a groove.
+                (Edge(_), Edge(_)) => ca != cb || (degenerate && ca && cb),
+                (Edge(_), Vertex(_)) | (Vertex(_), Edge(_)) | (Vertex(_), Vertex(_)) => {
+                    ca != cb || (degenerate && ca && cb)
+                }
+            };
+            if !wanted {
+                continue;
+            }
+            let kind = crate::contact::kind_of(a, b, matches!((a, b), (Edge(_), Edge(_))));
+            out.push(PrincipalContact {
+                fixed: a,
+                moving: b,
+                kind,
+            });
+        }
+    }
+    out
+}
+
+/// Whether every edge at a vertex leaves it to one side of some plane through it (then
+/// the vertex alone can touch a plane): each of its faces has a convex corner there
+/// (a reflex corner spans more than a half-plane), and the mean of the unit edge
+/// directions has a positive component along each of them. A sufficient test.
+fn pointed(part: &Part, v: crate::model::VertexId) -> bool {
+    let vertex = part.vertex(v);
+    let at = vertex.position;
+    let convex_corners = vertex.faces.iter().all(|&f| {
+        let face = part.face(f);
+        face.loops.iter().all(|l| {
+            let n = l.vertices.len();
+            (0..n).filter(|&i| l.vertices[i] == v).all(|i| {
+                let prev = part.vertex(l.vertices[(i + n - 1) % n]).position;
+                let next = part.vertex(l.vertices[(i + 1) % n]).position;
+                (at - prev).cross(next - at).dot(face.normal) > 0.0
+            })
+        })
+    });
+    let directions: Vec<DVec3> = vertex
+        .edges
+        .iter()
+        .map(|&x| {
+            let [a, b] = part.edge_points(x);
+            (if a == at { b - a } else { a - b }).normalize()
+        })
+        .collect();
+    let mean = directions.iter().copied().sum::<DVec3>();
+    convex_corners && directions.iter().all(|d| d.dot(mean) > 1e-9)
+}
+
 /// The outcome of a search for a pose realising a state.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Search {
@@ -112,6 +196,8 @@ pub struct Problem<'a> {
     /// The farthest vertex of the moving part from its frame's origin: how far a unit
     /// turn moves a point of it at most.
     moving_radius: f64,
+    /// How many times the default budget of boxes and searches a decision may spend.
+    effort: u32,
 }
 
 impl<'a> Problem<'a> {
@@ -136,7 +222,15 @@ impl<'a> Problem<'a> {
                 .iter()
                 .map(|v| v.position.length())
                 .fold(0.0, f64::max),
+            effort: 1,
         }
+    }
+
+    /// Sets how many times the default budget (of boxes examined and local searches
+    /// inside them) a decision may spend before it leaves a candidate undecided; at
+    /// least 1.
+    pub fn set_effort(&mut self, effort: u32) {
+        self.effort = effort.max(1);
     }
 
     /// The misalignment bounds.
@@ -290,12 +384,16 @@ impl<'a> Problem<'a> {
     }
 
     /// The contact state at a pose if the pose is clean: inside the bounds, no
-    /// penetration, and every pair that does not touch at least the separation tolerance
-    /// apart. Empty for a clean pose in free space.
+    /// penetration, every pair that does not touch at least the separation tolerance
+    /// apart, and the same state read with a touching tolerance just under the
+    /// separation (DOMAIN.md section 7: a witness is robust, every checker whose
+    /// tolerance lies between the two reads it alike; a face tilted off another's plane
+    /// by less than the separation is read as lying on it). Empty for a clean pose in
+    /// free space.
     #[must_use]
     pub fn clean_state(&self, pose: &Pose) -> Option<Vec<PrincipalContact>> {
         self.inspect(pose)
-            .filter(|report| self.is_clean(report))
+            .filter(|report| self.is_clean(report, pose))
             .map(|report| report.contacts)
     }
 
@@ -313,8 +411,51 @@ impl<'a> Problem<'a> {
 
     /// No penetration, and every pair that does not touch at least the separation
     /// tolerance apart.
-    fn is_clean(&self, report: &ContactReport) -> bool {
-        report.penetration == 0.0 && report.min_gap.is_none_or(|g| g >= self.separation())
+    fn is_clean(&self, report: &ContactReport, pose: &Pose) -> bool {
+        report.penetration == 0.0
+            && report.min_gap.is_none_or(|g| g >= self.separation())
+            && !self.edge_on_two_points(&report.contacts)
+            && self.scene.state(&self.placement(pose), LOOSE_CONTACT_REL).contacts == report.contacts
+    }
+
+    /// Whether two point contacts of a state put two points of one edge on one face's
+    /// closure: then the edge lies in the face's plane, and DOMAIN.md section 7 reads
+    /// the edge in the face (e-f or f-e), not two point contacts, so no witness shows
+    /// the state robustly (a vertex on a face and its edge crossing the face's edge,
+    /// say).
+    fn edge_on_two_points(&self, contacts: &[PrincipalContact]) -> bool {
+        let point = |pc: &PrincipalContact| {
+            use ContactKind as K;
+            matches!(
+                pc.kind,
+                K::FaceVertex | K::VertexFace | K::EdgeEdge | K::EdgeVertex | K::VertexEdge | K::VertexVertex
+            )
+        };
+        let points: Vec<&PrincipalContact> = contacts.iter().filter(|pc| point(pc)).collect();
+        // On `part`, an edge holding both elements (itself or its ends, two distinct
+        // points), and on `other`, a face holding both others.
+        let lies = |part: &Part, x: ElementId, y: ElementId, other: &Part, u: ElementId, w: ElementId| {
+            let edges = |e: ElementId| -> Vec<crate::model::EdgeId> {
+                match e {
+                    ElementId::Edge(x) => vec![x],
+                    ElementId::Vertex(v) => part.vertex(v).edges.clone(),
+                    ElementId::Face(_) => Vec::new(),
+                }
+            };
+            let distinct = x != y || matches!(x, ElementId::Edge(_));
+            let shared_edge = edges(x).iter().any(|e| edges(y).contains(e));
+            let shared_face = other
+                .faces_around(u)
+                .iter()
+                .any(|&f| other.in_closure(ElementId::Face(f), w));
+            distinct && shared_edge && shared_face
+        };
+        points.iter().enumerate().any(|(i, c1)| {
+            points[i + 1..].iter().any(|c2| {
+                lies(self.fixed, c1.fixed, c2.fixed, self.moving, c1.moving, c2.moving)
+                    || lies(self.moving, c1.moving, c2.moving, self.fixed, c1.fixed, c2.fixed)
+            })
+        })
     }
 
     fn separation(&self) -> f64 {
@@ -461,7 +602,7 @@ impl<'a> Problem<'a> {
             stats.optimisations += 1;
             let pose = self.solve(target, start, bounds);
             let Some(report) = self.inspect(&pose) else { continue };
-            if !self.is_clean(&report) {
+            if !self.is_clean(&report, &pose) {
                 if let Some(cleared) = self.clear(target, pose, &report, bounds, stats) {
                     return Search::Found(cleared);
                 }
@@ -569,6 +710,10 @@ impl<'a> Problem<'a> {
             .collect()
     }
 }
+
+/// The loosest touching tolerance a checker may use, relative to L: just under the
+/// separation. A witness reads the same state with it as with [`CONTACT_REL`].
+const LOOSE_CONTACT_REL: f64 = 0.99 * SEPARATION_REL;
 
 /// How far (relative to L) the optimiser keeps contact points inside their elements.
 const SEARCH_MARGIN_REL: f64 = 1e-3;

@@ -230,11 +230,13 @@ impl<'a> Prover<'a> {
         for pc in target {
             let (ea, eb) = (pc.fixed, pc.moving);
             // Point contacts in an element's interior keep off its boundary.
+            // So do contacts along a segment or over an area: their region must be wider
+            // than the separation, or some checker reads the neighbouring contact.
             let (inside_a, inside_b) = match pc.kind {
                 ContactKind::FaceVertex | ContactKind::EdgeVertex => (true, false),
                 ContactKind::VertexFace | ContactKind::VertexEdge => (false, true),
-                ContactKind::EdgeEdge => (true, true),
-                _ => (false, false),
+                ContactKind::VertexVertex => (false, false),
+                _ => (true, true),
             };
             out.push(Link::Region {
                 a: self.element_box(true, ea, inside_a)?,
@@ -411,13 +413,8 @@ impl<'a> Prover<'a> {
         self.contract(links, bounds)
     }
 
-    /// How a box is split: the component to halve, rotations weighed as the arc they
-    /// sweep at the parts' size; `None` when the box is already below the slack.
-    pub fn split_component(&self, bounds: &Bounds) -> Option<usize> {
-        self.split_among(bounds, 0..6)
-    }
-
-    /// [`Prover::split_component`] among some components only.
+    /// The component among `components` to halve, rotations weighed as the arc they
+    /// sweep at the parts' size; `None` when the box is already below the slack there.
     pub fn split_among(&self, bounds: &Bounds, components: std::ops::Range<usize>) -> Option<usize> {
         let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
         let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { 2.0 * self.reach };
@@ -534,7 +531,7 @@ impl<'a> Prover<'a> {
                     let rw = mat_vec(r, self.b.vertices[vertex]);
                     let p = add(rw, *t);
                     let h = dot(point(n), p).sub(Interval::point(d));
-                    if h.lo >= m || h.hi <= -m || !over_face(&self.a.triangles[face], n, &p) {
+                    if h.lo >= m || h.hi <= -m || !over_face(&self.a.triangles[face], n, &p, self.slack) {
                         continue;
                     }
                     let n_rw = dot(point(n), rw);
@@ -566,7 +563,7 @@ impl<'a> Prover<'a> {
                     let q: IVec = std::array::from_fn(|k| {
                         (0..3).fold(Interval::point(0.0), |acc, j| acc.add(r[j][k].mul(from_t[j])))
                     });
-                    if !over_face(&self.b.triangles[face], mn, &q) {
+                    if !over_face(&self.b.triangles[face], mn, &q, self.slack) {
                         continue;
                     }
                     let ua = dot(u, a);
@@ -667,8 +664,10 @@ fn outside_some<P>(
 }
 
 /// Whether every point of a box projects, along the face normal `n`, into one of a
-/// face's triangles.
-fn over_face(triangles: &[[DVec3; 3]], n: DVec3, p: &IVec) -> bool {
+/// face's triangles, at least `margin` inside it (a vertex on the face's boundary
+/// touches the face's closure, not the face: it is no gap a witness must keep; one
+/// more than the contact tolerance inside is a gap, or touches the face itself).
+fn over_face(triangles: &[[DVec3; 3]], n: DVec3, p: &IVec, margin: f64) -> bool {
     let corners: Vec<DVec3> = (0..8)
         .map(|c| {
             DVec3::new(
@@ -687,7 +686,7 @@ fn over_face(triangles: &[[DVec3; 3]], n: DVec3, p: &IVec) -> bool {
         corners.iter().all(|&q| {
             [(a, b), (b, c), (c, a)]
                 .iter()
-                .all(|&(x, y)| (y - x).cross(q - x).dot(n) * sign >= 0.0)
+                .all(|&(x, y)| (y - x).cross(q - x).dot(n) * sign >= margin * x.distance(y))
         })
     })
 }

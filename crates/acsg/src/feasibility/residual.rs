@@ -8,7 +8,7 @@
 
 use glam::{DAffine3, DVec3};
 
-use crate::contact::queries::{PlanarRegion, Segment, point_segment};
+use crate::contact::queries::{PlanarRegion, Segment, clip_convex, point_segment};
 use crate::model::{EdgeId, FaceId, Part, VertexId};
 
 /// A face's plane and loops as points, in its part's own frame.
@@ -21,6 +21,8 @@ pub(crate) struct FaceShape {
     pub inner: DVec3,
     /// Points spread over the face's interior (for overlap tests of two faces).
     pub samples: Vec<DVec3>,
+    /// The face's triangles, for the overlap of two faces when no sample lies in it.
+    pub triangles: Vec<[DVec3; 3]>,
     /// The most margin the face allows from its boundary: a quarter of its width scale.
     pub widest_margin: f64,
 }
@@ -59,6 +61,7 @@ impl FaceShape {
                     loops,
                     inner: inner.0,
                     samples,
+                    triangles: f.triangles.iter().map(|t| t.map(at)).collect(),
                     widest_margin: 0.25 * width,
                 }
             })
@@ -82,6 +85,39 @@ impl FaceShape {
 
     fn plane_distance(&self, p: DVec3) -> f64 {
         self.normal.dot(p) - self.offset
+    }
+
+    /// The largest [`FaceShape::inside_depth`] along a segment: at the middle of every
+    /// piece between the places where the segment's projection crosses the face's
+    /// boundary (the depth is largest inside a piece, not at fixed fractions of the
+    /// segment, which miss a short piece inside the face), and at nine even samples.
+    pub fn deepest_along(&self, p0: DVec3, p1: DVec3) -> f64 {
+        let region = self.region();
+        let (q0, q1) = (region.project(p0), region.project(p1));
+        let d = q1 - q0;
+        let mut cuts = vec![0.0, 1.0];
+        for s in region.boundary_segments() {
+            // Where q0 + t d meets the boundary segment's line, within both.
+            let e = s.b - s.a;
+            let n = self.normal;
+            let denom = d.cross(e).dot(n);
+            if denom.abs() <= f64::EPSILON * d.length() * e.length() {
+                continue;
+            }
+            let w = s.a - q0;
+            let t = w.cross(e).dot(n) / denom;
+            let u = w.cross(d).dot(n) / denom;
+            if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
+                cuts.push(t);
+            }
+        }
+        cuts.sort_by(f64::total_cmp);
+        let middles = cuts.windows(2).map(|w| 0.5 * (w[0] + w[1]));
+        let even = (1..10).map(|k| f64::from(k) / 10.0);
+        middles
+            .chain(even)
+            .map(|t| self.inside_depth(p0.lerp(p1, t)))
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// How far inside the face's outline the projection of `p` lies (negative outside).
@@ -151,9 +187,7 @@ pub(crate) fn face_edge(a: Side, f: FaceId, b: Side, e: EdgeId, map: &DAffine3, 
     let [p0, p1] = b.part.edge_points(e).map(|p| map.transform_point3(p));
     out.push(face.plane_distance(p0));
     out.push(face.plane_distance(p1));
-    let deepest = (1..10)
-        .map(|k| face.inside_depth(p0.lerp(p1, f64::from(k) / 10.0)))
-        .fold(f64::NEG_INFINITY, f64::max);
+    let deepest = face.deepest_along(p0, p1);
     out.push(hinge(deepest, face.margin(m)));
     // The edge's faces rise off the plane: across the edge, not at its ends, which may
     // lie beyond the face.
@@ -178,13 +212,39 @@ pub(crate) fn face_face(
         out.push(face.plane_distance(map.transform_point3(*p)));
     }
     let depth_in_both = |p_a: DVec3, p_b: DVec3| face.inside_depth(p_a).min(other.inside_depth(p_b));
-    let deepest = other
+    let margin = face.margin(m).min(other.margin(m));
+    let mut deepest = other
         .samples
         .iter()
         .map(|&p| depth_in_both(map.transform_point3(p), p))
         .chain(face.samples.iter().map(|&p| depth_in_both(p, back.transform_point3(p))))
         .fold(f64::NEG_INFINITY, f64::max);
-    out.push(hinge(deepest, face.margin(m).min(other.margin(m))));
+    if deepest < margin {
+        // A small overlap may hold no sample: the centres of the overlaps of the two
+        // faces' triangles (the other face's projected onto this plane, turned to run
+        // the same way round).
+        for t in &face.triangles {
+            for u in &other.triangles {
+                let [a, b, c] = u.map(|p| {
+                    let q = map.transform_point3(p);
+                    q - face.normal * face.plane_distance(q)
+                });
+                let mut poly = t.to_vec();
+                for (x, y) in [(a, c), (c, b), (b, a)] {
+                    let outward = (y - x).cross(face.normal).normalize_or_zero();
+                    poly = clip_convex(&poly, outward, outward.dot(x));
+                    if poly.len() < 3 {
+                        break;
+                    }
+                }
+                if poly.len() >= 3 {
+                    let centre = poly.iter().copied().sum::<DVec3>() / poly.len() as f64;
+                    deepest = deepest.max(depth_in_both(centre, back.transform_point3(centre)));
+                }
+            }
+        }
+    }
+    out.push(hinge(deepest, margin));
 }
 
 /// Two edges crossing at one point inside both, each edge's faces falling away from the

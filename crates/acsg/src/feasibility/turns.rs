@@ -13,7 +13,7 @@ use glam::DVec3;
 
 use super::Problem;
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
-use crate::contact::PrincipalContact;
+use crate::contact::{ContactKind, PrincipalContact};
 use crate::model::{ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, scaled};
@@ -37,11 +37,35 @@ struct Wedge {
     slack: f64,
 }
 
+/// Two edges whose directions must not be parallel within `least`: some component of
+/// `d_e × R d_x` (each a value `n · (R d)`) exceeds it in size. With `along`, only
+/// pointing the same way is ruled out (`d_e · R d_x` may also be negative).
+#[derive(Clone, Debug)]
+struct Askew {
+    components: [(DVec3, DVec3); 3],
+    least: f64,
+    along: Option<(DVec3, DVec3)>,
+}
+
+/// A face of each part at two edges in contact that must not lie flush (then the
+/// faces overlap, face on face): excluded when `R m = −n` to `slack` in every
+/// component (`(e_k, m)` values plus `n_k`) and, with `side`, the faces also turn to
+/// the same side of the edges (`u_f · R u_g` positive).
+#[derive(Clone, Debug)]
+struct Flush {
+    n: DVec3,
+    m: DVec3,
+    slack: f64,
+    side: Option<(DVec3, DVec3)>,
+}
+
 /// The rotation-only conditions of a target, prepared once for many boxes.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Turns {
     turns: Vec<Turn>,
     wedges: Vec<Wedge>,
+    askew: Vec<Askew>,
+    flush: Vec<Flush>,
 }
 
 /// `n · (R d)` over a rotation enclosure.
@@ -81,6 +105,19 @@ impl Turns {
             let v = value(&r, t.n, t.d);
             v.hi >= t.lo && v.lo <= t.hi
         }) && self.wedges.iter().all(|w| w.sides(&r).0)
+            && self.askew.iter().all(|a| {
+                a.components.iter().any(|&(n, d)| {
+                    let v = value(&r, n, d);
+                    v.hi > a.least || v.lo < -a.least
+                }) || a.along.is_some_and(|(n, d)| value(&r, n, d).lo <= 0.0)
+            })
+            && self.flush.iter().all(|f| {
+                let flush = DVec3::AXES.iter().enumerate().all(|(k, &axis)| {
+                    let v = value(&r, axis, f.m);
+                    v.lo + f.n[k] >= -f.slack && v.hi + f.n[k] <= f.slack
+                });
+                !flush || f.side.is_some_and(|(u, w)| value(&r, u, w).hi <= 0.0)
+            })
     }
 
     /// The angle (3, 4 or 5) to split a box along: the one the undecided conditions
@@ -156,9 +193,10 @@ impl Problem<'_> {
         //   the separation over their length (a neighbour closer to the plane than that
         //   is a pair closer than a witness allows, or lies in the plane: another
         //   contact);
-        // - at an edge lying in a face, its faces' directions across it, which must not
-        //   dip below the plane (more than the contact tolerance allows, at the face's
-        //   farthest corner);
+        // - at an edge lying in a face, its faces' directions across it, which must
+        //   rise too: a face whose corners all lie within the separation of the plane
+        //   is read as lying in it (face on face), so its farthest corner from the edge
+        //   rises at least half the separation;
         // - nothing at a face on a face: its ends may run off the other face.
         let leaving = |part: &Part, e: ElementId| -> Vec<(DVec3, f64)> {
             match e {
@@ -186,7 +224,7 @@ impl Problem<'_> {
                                 .iter()
                                 .map(|&w| (part.vertex(w).position - p).cross(along).length())
                                 .fold(0.0, f64::max);
-                            (u, -tilt(reach))
+                            (u, rise / reach)
                         })
                         .collect()
                 }
@@ -246,14 +284,51 @@ impl Problem<'_> {
                 }
             }
             (ElementId::Edge(e), ElementId::Edge(x)) => {
-                // Two crossing convex edges touch only if the plane through both
-                // separates the parts' wedges: with n = e × R x and s = ±1, A's in-face
-                // directions u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both
-                // are linear in R: n·u = (u × e)·(R x), n·(R v) = e·R(x × v).
                 let de = to_g(self.fixed.edge_direction(e));
                 let dx = self.moving.edge_direction(x);
                 let [e0, e1] = self.fixed.edge_points(e);
                 let [x0, x1] = self.moving.edge_points(x);
+                let (le, lx) = (e0.distance(e1), x0.distance(x1));
+                // (d_e × R d_x)_k = (e_k × d_e) · (R d_x).
+                let components = DVec3::AXES.map(|axis| (axis.cross(de), dx));
+                // A face at each edge lying flush with the other's: face on face.
+                let along = pc.kind == ContactKind::EdgeEdgeTouch;
+                let faces_a = self.fixed.edge(e).faces.into_iter().zip(self.fixed.edge_wedge(e));
+                for (f, u) in faces_a {
+                    let faces_b = self.moving.edge(x).faces.into_iter().zip(self.moving.edge_wedge(x));
+                    for (g, w) in faces_b {
+                        // Only as flush as the contact module reads face on face: every
+                        // corner within the tolerance of the other's plane (a sound
+                        // exclusion needs the narrower test).
+                        let span = diameter(self.fixed, f).max(diameter(self.moving, g));
+                        out.flush.push(Flush {
+                            n: to_g(self.fixed.face(f).normal),
+                            m: self.moving.face(g).normal,
+                            slack: scaled(CONTACT_REL, self.scale) / (span * 3f64.sqrt()),
+                            side: along.then(|| (to_g(u), w)),
+                        });
+                    }
+                }
+                if pc.kind == ContactKind::EdgeEdgeTouch {
+                    // Along each other: parallel, to the tilt the contact allows.
+                    for (n, d) in components {
+                        let slack = tilt(le.min(lx));
+                        out.turns.push(turn(n, d, -slack, slack));
+                    }
+                    return;
+                }
+                // Crossing: not parallel, or every end lies within the tolerance of the
+                // other's line and the two read as along each other (the farthest end
+                // is at most the longer edge away from the crossing).
+                out.askew.push(Askew {
+                    components,
+                    least: scaled(CONTACT_REL, self.scale) / (le.max(lx) * 3f64.sqrt()),
+                    along: None,
+                });
+                // Two crossing convex edges touch only if the plane through both
+                // separates the parts' wedges: with n = e × R x and s = ±1, A's in-face
+                // directions u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both
+                // are linear in R: n·u = (u × e)·(R x), n·(R v) = e·R(x × v).
                 out.wedges.push(Wedge {
                     on_a: self
                         .fixed
@@ -262,10 +337,56 @@ impl Problem<'_> {
                         .map(|&u| (to_g(u).cross(de), dx))
                         .collect(),
                     on_b: self.moving.edge_wedge(x).iter().map(|&v| (de, dx.cross(v))).collect(),
-                    slack: tilt(e0.distance(e1).min(x0.distance(x1))),
+                    slack: tilt(le.min(lx)),
                 });
             }
-            _ => {}
+            (a, b) => {
+                // A vertex in an edge or on a vertex: an edge of one part leaving the
+                // contact along an edge of the other lies along it (e-e-t), unless the
+                // two leave the shared vertex in opposite directions.
+                let edges = |part: &Part, e: ElementId, fixed: bool| -> Vec<(DVec3, f64, bool)> {
+                    let direction = |d: DVec3| if fixed { to_g(d) } else { d };
+                    match e {
+                        ElementId::Edge(x) => {
+                            let [p, q] = part.edge_points(x);
+                            vec![(direction((q - p).normalize()), p.distance(q), false)]
+                        }
+                        ElementId::Vertex(v) => part
+                            .vertex(v)
+                            .edges
+                            .iter()
+                            .map(|&x| {
+                                let [p, q] = part.edge_points(x);
+                                let at = part.vertex(v).position;
+                                let d = if p == at { q - p } else { p - q };
+                                (direction(d.normalize()), d.length(), true)
+                            })
+                            .collect(),
+                        ElementId::Face(_) => Vec::new(),
+                    }
+                };
+                for (de, le, from_a) in edges(self.fixed, a, true) {
+                    for (dx, lx, from_b) in edges(self.moving, b, false) {
+                        out.askew.push(Askew {
+                            components: DVec3::AXES.map(|axis| (axis.cross(de), dx)),
+                            least: scaled(CONTACT_REL, self.scale) / (le.max(lx) * 3f64.sqrt()),
+                            along: (from_a && from_b).then_some((de, dx)),
+                        });
+                    }
+                }
+            }
         }
     }
+}
+
+/// The diagonal of a face's bounding box.
+fn diameter(part: &Part, f: FaceId) -> f64 {
+    let points: Vec<DVec3> = part
+        .closure_vertices(ElementId::Face(f))
+        .iter()
+        .map(|&v| part.vertex(v).position)
+        .collect();
+    let lo = points.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+    let hi = points.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
+    lo.distance(hi)
 }

@@ -32,7 +32,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::PrincipalContact;
-use crate::feasibility::{Decided, Decision, Problem, SearchStats, Starts, is_primitive, primitive_contacts};
+use crate::feasibility::{Decided, Decision, Problem, SearchStats, Starts, is_primitive, single_contacts};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose};
 
@@ -49,6 +49,9 @@ pub struct Options {
     pub assembled: DAffine3,
     /// Worker threads; 0 uses rayon's default (one per core).
     pub threads: usize,
+    /// How hard each candidate is searched and proved before it is left undecided: a
+    /// multiple of the default budget of boxes and local searches (1).
+    pub effort: u32,
 }
 
 impl Default for Options {
@@ -57,6 +60,7 @@ impl Default for Options {
             degenerate: false,
             assembled: DAffine3::IDENTITY,
             threads: 0,
+            effort: 1,
         }
     }
 }
@@ -82,6 +86,9 @@ pub struct State {
 pub struct Stats {
     /// card(PPC): every primitive principal contact.
     pub ppc: usize,
+    /// Single contacts decided in stage 1: the PPCs and every other contact that can
+    /// hold alone (face on face, edge in face, contacts with concave elements).
+    pub singles: usize,
     /// PPCs ruled out by the reach test without optimising.
     pub ppc_unreachable: usize,
     /// Feasible PPCs.
@@ -237,6 +244,11 @@ struct Generator<'a> {
     seen: BTreeSet<Vec<PrincipalContact>>,
     /// Candidates left undecided.
     undecided: Vec<Undecided>,
+    /// Every single-contact state found, with its witness, in the order found: what
+    /// stage 2 grows states by.
+    additions: Vec<(PrincipalContact, Pose)>,
+    /// Per state, how many of `additions` it has been grown by.
+    grown: Vec<usize>,
     stats: Stats,
 }
 
@@ -247,6 +259,11 @@ struct Candidate {
     added: usize,
 }
 
+/// The step from a witness at which [`Generator::probe`] reads a neighbouring state
+/// (relative to L for translations, radians for angles); the reading is confirmed a
+/// tenth of the way.
+const PROBE_STEP: f64 = 1e-4;
+
 /// Constructive starts of a stage-1 search (spread orientations).
 const PRIMITIVE_STARTS: usize = 17;
 /// Constructive starts of a stage-2 search (after the warm starts).
@@ -254,7 +271,8 @@ const GROWTH_STARTS: usize = 2;
 
 impl<'a> Generator<'a> {
     fn new(fixed: &'a Part, moving: &'a Part, bounds: &Bounds, options: &'a Options) -> Generator<'a> {
-        let problem = Problem::new(fixed, moving, *bounds, options.assembled);
+        let mut problem = Problem::new(fixed, moving, *bounds, options.assembled);
+        problem.set_effort(options.effort);
         let mut generator = Generator {
             fixed,
             moving,
@@ -264,6 +282,8 @@ impl<'a> Generator<'a> {
             index: HashMap::new(),
             seen: BTreeSet::new(),
             undecided: Vec::new(),
+            additions: Vec::new(),
+            grown: Vec::new(),
             stats: Stats::default(),
         };
         let root = generator.free_pose();
@@ -328,6 +348,9 @@ impl<'a> Generator<'a> {
         );
         self.seen.insert(contacts.clone());
         self.index.insert(contacts.clone(), id);
+        if let [single] = contacts[..] {
+            self.additions.push((single, witness));
+        }
         self.states.push(State {
             id,
             contacts,
@@ -340,51 +363,50 @@ impl<'a> Generator<'a> {
 
     fn run(mut self, progress: &(dyn Fn(Progress) + Sync)) -> Graph {
         let started = Instant::now();
-        // Stage 1: every PPC decided.
-        let ppcs = primitive_contacts(self.fixed, self.moving);
-        self.stats.ppc = ppcs.len();
-        let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(ppcs.len());
-        for chunk in ppcs.chunks(BATCH) {
-            results.par_extend(chunk.par_iter().map(|ppc| {
+        // Stage 1: every single contact decided (the PPCs, and the contacts that need
+        // no PPC to hold: a face flat on a face when the rotation is pinned, say).
+        let singles = single_contacts(self.fixed, self.moving, self.options.degenerate);
+        self.stats.ppc = singles.iter().filter(|pc| is_primitive(pc)).count();
+        self.stats.singles = singles.len();
+        let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(singles.len());
+        for chunk in singles.chunks(BATCH) {
+            results.par_extend(chunk.par_iter().map(|pc| {
                 let mut stats = SearchStats::default();
                 let starts = Starts {
                     warm: &[],
-                    anchor: ppc,
+                    anchor: pc,
                     constructive: PRIMITIVE_STARTS,
                 };
-                (self.problem.decide(&[*ppc], &starts, &mut stats), stats)
+                (self.problem.decide(&[*pc], &starts, &mut stats), stats)
             }));
             progress(Progress {
                 stage: 1,
                 done: results.len(),
-                total: ppcs.len(),
+                total: singles.len(),
                 states: self.states.len(),
             });
         }
-        let mut feasible: Vec<(PrincipalContact, Pose)> = Vec::new();
-        let mut frontier = Vec::new();
-        for (ppc, (decided, stats)) in ppcs.iter().zip(results) {
+        for (pc, (decided, stats)) in singles.iter().zip(results) {
             self.stats.stage1_optimisations += stats.optimisations;
             self.stats.stage1_searched += usize::from(stats.optimisations > 0);
             self.stats.boxes += stats.boxes;
-            if stats.optimisations == 0 && matches!(decided.decision, Decision::Infeasible(_)) {
+            let proved = matches!(decided.decision, Decision::Infeasible(_));
+            if stats.optimisations == 0 && proved && is_primitive(pc) {
                 self.stats.ppc_unreachable += 1;
             }
-            if let Decision::Witnessed(pose) = decided.decision {
-                feasible.push((*ppc, pose));
+            if is_primitive(pc) && matches!(decided.decision, Decision::Witnessed(_)) {
+                self.stats.feasible_ppc += 1;
             }
-            frontier.extend(self.record(vec![*ppc], decided));
+            self.record(vec![*pc], decided);
         }
-        self.stats.feasible_ppc = feasible.len();
         self.stats.stage1_seconds = started.elapsed().as_secs_f64();
 
-        // Stage 2: breadth first; when it settles, search one contact below every known
-        // state (states the growth missed), and grow from what that finds.
+        // Stage 2: every state grown by every single contact found, until nothing new
+        // appears; then every state searched one contact below, and grown again.
         let started = Instant::now();
         loop {
-            self.grow_breadth_first(&mut frontier, &feasible, progress);
-            frontier = self.descend();
-            if frontier.is_empty() {
+            self.grow(progress);
+            if self.descend() == 0 {
                 break;
             }
         }
@@ -405,21 +427,21 @@ impl<'a> Generator<'a> {
         }
     }
 
-    /// Records the decision of a candidate and the states met on the way; the ids of
-    /// the new states.
-    fn record(&mut self, target: Vec<PrincipalContact>, decided: Decided) -> Vec<usize> {
+    /// Records the decision of a candidate and the states met on the way; how many
+    /// states are new.
+    fn record(&mut self, target: Vec<PrincipalContact>, decided: Decided) -> usize {
         self.stats.candidates += 1;
         self.seen.insert(target.clone());
-        let mut new = Vec::new();
+        let mut new = 0;
         match decided.decision {
-            Decision::Witnessed(pose) => new.extend(self.add_state(target, pose).filter(|&(_, n)| n).map(|(id, _)| id)),
+            Decision::Witnessed(pose) => new += usize::from(matches!(self.add_state(target, pose), Some((_, true)))),
             Decision::Infeasible(_) => self.stats.infeasible += 1,
             Decision::Undecided(open) => self.undecided.push(Undecided { contacts: target, open }),
         }
         for (state, pose) in decided.others {
-            if let Some((id, true)) = self.add_state(state, pose) {
+            if let Some((_, true)) = self.add_state(state, pose) {
                 self.stats.found_on_the_way += 1;
-                new.push(id);
+                new += 1;
             }
         }
         new
@@ -429,7 +451,7 @@ impl<'a> Generator<'a> {
     /// are neither states nor candidates yet, each decided: first pushed apart from the
     /// state's witness, then in small boxes around it, then over the whole bounds. The
     /// new states.
-    fn descend(&mut self) -> Vec<usize> {
+    fn descend(&mut self) -> usize {
         let mut candidates = Vec::new();
         for state in &self.states {
             let Some(witness) = state.witness else { continue };
@@ -454,35 +476,35 @@ impl<'a> Generator<'a> {
                 (decided, stats)
             })
             .collect();
-        let mut frontier = Vec::new();
+        let mut new = 0;
         for ((target, _, _), (decided, stats)) in candidates.into_iter().zip(results) {
             self.stats.descents += 1;
             self.stats.stage2_searched += usize::from(stats.optimisations > 0);
             self.stats.stage2_optimisations += stats.optimisations;
             self.stats.boxes += stats.boxes;
             let witnessed = matches!(decided.decision, Decision::Witnessed(_));
-            let new = self.record(target, decided);
-            self.stats.found_by_descent += usize::from(witnessed && !new.is_empty());
-            frontier.extend(new);
+            let found = self.record(target, decided);
+            self.stats.found_by_descent += usize::from(witnessed && found > 0);
+            new += found;
         }
-        frontier
+        new
     }
 
-    /// Stage 2's breadth-first growth from `frontier` until no new state appears.
-    fn grow_breadth_first(
-        &mut self,
-        frontier: &mut Vec<usize>,
-        feasible: &[(PrincipalContact, Pose)],
-        progress: &(dyn Fn(Progress) + Sync),
-    ) {
-        while !frontier.is_empty() {
-            let candidates = self.candidates(frontier, feasible);
+    /// Stage 2's growth: every state with every single contact found (in the order
+    /// they were found; later ones grow the earlier states too), until no new state
+    /// appears. Candidates of one round are decided in parallel, merged in order.
+    fn grow(&mut self, progress: &(dyn Fn(Progress) + Sync)) {
+        loop {
+            let candidates = self.candidates();
+            if candidates.is_empty() {
+                return;
+            }
             let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
             for chunk in candidates.chunks(BATCH) {
                 results.par_extend(chunk.par_iter().map(|c| {
                     let mut stats = SearchStats::default();
                     let parent = self.states[c.parent].witness;
-                    let (added, added_witness) = &feasible[c.added];
+                    let (added, added_witness) = &self.additions[c.added];
                     let warm: Vec<Pose> = parent.into_iter().chain([*added_witness]).collect();
                     let starts = Starts {
                         warm: &warm,
@@ -498,7 +520,6 @@ impl<'a> Generator<'a> {
                     states: self.states.len(),
                 });
             }
-            frontier.clear();
             for (candidate, (decided, stats)) in candidates.into_iter().zip(results) {
                 self.stats.stage2_optimisations += stats.optimisations;
                 self.stats.stage2_searched += usize::from(stats.optimisations > 0);
@@ -506,25 +527,32 @@ impl<'a> Generator<'a> {
                 if stats.optimisations == 0 && matches!(decided.decision, Decision::Infeasible(_)) {
                     self.stats.pruned_unreachable += 1;
                 }
-                frontier.extend(self.record(candidate.target, decided));
+                self.record(candidate.target, decided);
             }
         }
     }
 
-    /// The new candidates of one breadth-first level, in a fixed order.
-    fn candidates(&mut self, frontier: &[usize], feasible: &[(PrincipalContact, Pose)]) -> Vec<Candidate> {
+    /// The candidates of the (state, single contact) pairs not considered yet, in a
+    /// fixed order.
+    fn candidates(&mut self) -> Vec<Candidate> {
         let mut out = Vec::new();
         let mut proposed = BTreeSet::new();
-        for &parent in frontier {
+        for parent in 1..self.states.len() {
+            let from = self.grown.get(parent).copied().unwrap_or(0);
+            if from == self.additions.len() {
+                continue;
+            }
             let state = self.states[parent].contacts.clone();
             let implied = rules::state_primitives(self.fixed, self.moving, &state);
-            for (added, (ppc, _)) in feasible.iter().enumerate() {
+            for added in from..self.additions.len() {
+                let pc = self.additions[added].0;
                 self.stats.stage2_pairs += 1;
-                if implied.contains(ppc) {
+                let own = rules::state_primitives(self.fixed, self.moving, &[pc]);
+                if state.contains(&pc) || (!own.is_empty() && own.is_subset(&implied)) {
                     self.stats.pruned_implied += 1;
                     continue;
                 }
-                let targets = rules::grow(self.fixed, self.moving, &state, *ppc);
+                let targets = rules::grow_every(self.fixed, self.moving, &state, pc);
                 if targets.is_empty() {
                     self.stats.pruned_topology += 1;
                 }
@@ -541,6 +569,10 @@ impl<'a> Generator<'a> {
                     }
                 }
             }
+            if self.grown.len() <= parent {
+                self.grown.resize(parent + 1, 0);
+            }
+            self.grown[parent] = self.additions.len();
         }
         out
     }
@@ -575,6 +607,64 @@ impl<'a> Generator<'a> {
                 }
             }
         }
+        let probed: Vec<Vec<usize>> = self.states[1..].par_iter().map(|s| self.probe(s)).collect();
+        for (state, others) in self.states[1..].iter().zip(probed) {
+            for other in others {
+                edges.insert([state.id.min(other), state.id.max(other)]);
+            }
+        }
         edges.into_iter().collect()
+    }
+
+    /// The known states (free space included) whose regions touch this state's at its
+    /// witness: the state read at small steps from the witness, in every direction
+    /// along one or two pose components that the bounds leave free (a rotation-pinned
+    /// face on a face steps straight into free space). A step counts when a step ten
+    /// times smaller reads the same state, so that the other region reaches the
+    /// witness itself.
+    fn probe(&self, state: &State) -> Vec<usize> {
+        let Some(witness) = state.witness else {
+            return Vec::new();
+        };
+        let bounds = self.problem.bounds();
+        let width = bounds.width();
+        let free: Vec<usize> = (0..6).filter(|&k| width[k] > 0.0).collect();
+        let mut directions: Vec<[f64; 6]> = Vec::new();
+        for (i, &k) in free.iter().enumerate() {
+            for sign in [1.0, -1.0] {
+                let mut d = [0.0; 6];
+                d[k] = sign;
+                directions.push(d);
+            }
+            for &j in &free[i + 1..] {
+                for (a, b) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                    let mut d = [0.0; 6];
+                    d[k] = a;
+                    d[j] = b;
+                    directions.push(d);
+                }
+            }
+        }
+        let scale = self.problem.scene().scale();
+        let x = witness.to_array();
+        let read = |d: &[f64; 6], step: f64| {
+            let pose = Pose::from_array(std::array::from_fn(|k| {
+                x[k] + d[k] * step * if k < 3 { scale } else { 1.0 }
+            }));
+            if !bounds.contains(&pose, 0.0, 0.0) {
+                return None;
+            }
+            self.problem.clean_state(&pose)
+        };
+        let mut out = BTreeSet::new();
+        for d in &directions {
+            let Some(far) = read(d, PROBE_STEP) else { continue };
+            if far != state.contacts && read(d, 0.1 * PROBE_STEP).as_ref() == Some(&far) {
+                if let Some(&other) = self.index.get(&far) {
+                    out.insert(other);
+                }
+            }
+        }
+        out.into_iter().collect()
     }
 }
