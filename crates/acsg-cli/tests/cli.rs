@@ -1,7 +1,7 @@
 //! The `acsg` binary, end to end: outputs checked against hand-derived counts, every
 //! bad-input class checked for its message and exit code.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use predicates::prelude::*;
@@ -120,6 +120,32 @@ fn demo_runs_with_no_files_and_writes_a_consistent_graph() {
     for edge in v["edges"].as_array().unwrap() {
         assert!(edge[0].as_u64().unwrap() < edge[1].as_u64().unwrap());
         assert!(edge[1].as_u64().unwrap() < states.len() as u64);
+    }
+    // Every key the schema requires is there, at the top and in the counts.
+    let schema: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../schema/graph.schema.json")).unwrap(),
+    )
+    .unwrap();
+    for (required, object) in [
+        (&schema["required"], &v),
+        (&schema["properties"]["stats"]["required"], &v["stats"]),
+    ] {
+        for key in required.as_array().unwrap() {
+            assert!(object.get(key.as_str().unwrap()).is_some(), "missing {key}");
+        }
+    }
+    // Completeness: every candidate ended one way, and the flag says whether any is
+    // undecided (each then listed with the box its proof left open).
+    let s = &v["stats"];
+    let count = |k: &str| s[k].as_u64().unwrap();
+    assert_eq!(count("candidates"), count("witnessed") + count("infeasible") + count("undecided"));
+    let undecided = v["undecided"].as_array().unwrap();
+    assert_eq!(undecided.len() as u64, count("undecided"));
+    assert_eq!(v["complete"].as_bool().unwrap(), undecided.is_empty());
+    for u in undecided {
+        assert!(!u["contacts"].as_array().unwrap().is_empty());
+        let (lo, hi) = (u["open"]["min"].as_array().unwrap(), u["open"]["max"].as_array().unwrap());
+        assert!(lo.iter().zip(hi).all(|(a, b)| a.as_f64().unwrap() <= b.as_f64().unwrap()));
     }
 }
 

@@ -907,7 +907,6 @@ fn l_block_and_box_oracle_witnesses_survive_every_exclusion_rule() {
 }
 
 #[test]
-#[ignore = "issue 12: the generator still misses oracle states; un-ignored when it finds them all"]
 fn l_block_and_box_generator_finds_every_oracle_state() {
     pair_run(0).recall();
 }

@@ -101,6 +101,9 @@ pub(crate) struct Starts<'s> {
     pub anchor: &'s PrincipalContact,
     /// How many constructive starts.
     pub constructive: usize,
+    /// How many times the problem's effort this decision may spend (single contacts,
+    /// few and the seeds of everything, get more).
+    pub boost: u32,
 }
 
 /// What a target's boxes are tested against.
@@ -194,6 +197,7 @@ impl Problem<'_> {
             warm: &[witness],
             anchor,
             constructive: 2,
+            boost: 1,
         };
         for size in [NEAR_REL, 100.0 * NEAR_REL] {
             let x = witness.to_array();
@@ -267,9 +271,10 @@ impl Problem<'_> {
                 return Decision::Witnessed(pose);
             }
         }
-        // Then inside the boxes of rotations that stay open, level by level.
-        let mut searches = 0;
-        let effort = self.effort as usize;
+        // Then inside the boxes of rotations that stay open, level by level (the local
+        // searches left counted down).
+        let effort = (self.effort * starts.boost.max(1)) as usize;
+        let mut searches = BOX_SEARCHES * effort;
         let budget = PRUNE_BUDGET + SEARCH_BUDGET * effort;
         if let Some(decision) = self.branch(
             target,
@@ -336,9 +341,9 @@ impl Problem<'_> {
                 }
                 Ok(narrowed) => narrowed,
             };
-            if let Some(count) = searches.as_deref_mut() {
-                if depth > 0 && depth % SEARCH_EVERY == 0 && *count < BOX_SEARCHES * self.effort as usize {
-                    *count += 1;
+            if let Some(left) = searches.as_deref_mut() {
+                if depth > 0 && depth % SEARCH_EVERY == 0 && *left > 0 {
+                    *left -= 1;
                     if let Some(pose) = self.search_from(target, narrowed.center(), &narrowed, others, stats) {
                         return Some(Decision::Witnessed(pose));
                     }

@@ -266,6 +266,10 @@ const PROBE_STEP: f64 = 1e-4;
 
 /// Constructive starts of a stage-1 search (spread orientations).
 const PRIMITIVE_STARTS: usize = 17;
+/// How many times the effort stage 1 spends on each single contact: they are few, and
+/// every state grows from them.
+const SINGLE_BOOST: u32 = 4;
+
 /// Constructive starts of a stage-2 search (after the warm starts).
 const GROWTH_STARTS: usize = 2;
 
@@ -376,6 +380,7 @@ impl<'a> Generator<'a> {
                     warm: &[],
                     anchor: pc,
                     constructive: PRIMITIVE_STARTS,
+                    boost: SINGLE_BOOST,
                 };
                 (self.problem.decide(&[*pc], &starts, &mut stats), stats)
             }));
@@ -510,6 +515,7 @@ impl<'a> Generator<'a> {
                         warm: &warm,
                         anchor: added,
                         constructive: GROWTH_STARTS,
+                        boost: 1,
                     };
                     (self.problem.decide(&c.target, &starts, &mut stats), stats)
                 }));
