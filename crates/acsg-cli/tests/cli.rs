@@ -138,14 +138,24 @@ fn demo_runs_with_no_files_and_writes_a_consistent_graph() {
     // undecided (each then listed with the box its proof left open).
     let s = &v["stats"];
     let count = |k: &str| s[k].as_u64().unwrap();
-    assert_eq!(count("candidates"), count("witnessed") + count("infeasible") + count("undecided"));
+    assert_eq!(
+        count("candidates"),
+        count("witnessed") + count("infeasible") + count("undecided")
+    );
     let undecided = v["undecided"].as_array().unwrap();
     assert_eq!(undecided.len() as u64, count("undecided"));
     assert_eq!(v["complete"].as_bool().unwrap(), undecided.is_empty());
     for u in undecided {
         assert!(!u["contacts"].as_array().unwrap().is_empty());
-        let (lo, hi) = (u["open"]["min"].as_array().unwrap(), u["open"]["max"].as_array().unwrap());
-        assert!(lo.iter().zip(hi).all(|(a, b)| a.as_f64().unwrap() <= b.as_f64().unwrap()));
+        let (lo, hi) = (
+            u["open"]["min"].as_array().unwrap(),
+            u["open"]["max"].as_array().unwrap(),
+        );
+        assert!(
+            lo.iter()
+                .zip(hi)
+                .all(|(a, b)| a.as_f64().unwrap() <= b.as_f64().unwrap())
+        );
     }
 }
 

@@ -77,6 +77,20 @@ pub struct Decided {
     pub others: Vec<(Vec<PrincipalContact>, Pose)>,
 }
 
+impl Decided {
+    /// The decision as a [`super::Search`] (a proof counted in `stats.pruned`).
+    pub(crate) fn into_search(self, stats: &mut SearchStats) -> super::Search {
+        match self.decision {
+            Decision::Witnessed(pose) => super::Search::Found(pose),
+            Decision::Infeasible(_) => {
+                stats.pruned += 1;
+                super::Search::Unreachable
+            }
+            Decision::Undecided(_) => super::Search::NotFound { others: self.others },
+        }
+    }
+}
+
 /// The half-size of the first box around a witness that [`Problem::decide_below`]
 /// searches (translations relative to L, angles in radians).
 const NEAR_REL: f64 = 1e-4;
@@ -150,17 +164,23 @@ impl Problem<'_> {
     /// does. Every rule is sound: a box around a verified witness is never excluded.
     #[must_use]
     pub fn exclusion(&self, target: &[PrincipalContact], bounds: &Bounds) -> Option<Rule> {
-        if !self.rigidly_compatible(target) {
-            return Some(Rule::RigidDistance);
+        match self.conditions(target) {
+            Ok(conditions) => self.exclude(target, &conditions, Mode::All, bounds).err(),
+            Err(rule) => Some(rule),
         }
-        let Some(links) = self.prover.links(target) else {
-            return Some(Rule::Propagation);
-        };
-        let conditions = Conditions {
+    }
+
+    /// What a target's boxes are tested against; the rule that already rules the
+    /// target out whatever the pose, if one does.
+    fn conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
+        if !self.rigidly_compatible(target) {
+            return Err(Rule::RigidDistance);
+        }
+        let links = self.prover.links(target).ok_or(Rule::Propagation)?;
+        Ok(Conditions {
             links,
             turns: self.turns(target),
-        };
-        self.exclude(target, &conditions, Mode::All, bounds).err()
+        })
     }
 
     /// Decides `target`, one contact below a known `state` with witness `witness`:
@@ -199,8 +219,29 @@ impl Problem<'_> {
             constructive: 2,
             boost: 1,
         };
+        if let Some(pose) = self.decide_near(target, &starts, witness, &mut others, stats) {
+            return Decided {
+                decision: Decision::Witnessed(pose),
+                others,
+            };
+        }
+        let decision = self.decide_within(target, &starts, &self.bounds, &mut others, stats);
+        Decided { decision, others }
+    }
+
+    /// A witness of `target` within small boxes around `pose`: 1e-4 then a hundred
+    /// times that (translations relative to L, angles in radians), clipped to the
+    /// bounds.
+    pub(crate) fn decide_near(
+        &self,
+        target: &[PrincipalContact],
+        starts: &Starts,
+        pose: Pose,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        stats: &mut SearchStats,
+    ) -> Option<Pose> {
         for size in [NEAR_REL, 100.0 * NEAR_REL] {
-            let x = witness.to_array();
+            let x = pose.to_array();
             let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
             let reach = |k: usize| if k < 3 { size * self.scale } else { size };
             let local_lo: [f64; 6] = std::array::from_fn(|k| (x[k] - reach(k)).max(lo[k]));
@@ -208,15 +249,11 @@ impl Problem<'_> {
             let Ok(local) = Bounds::try_new(local_lo, local_hi) else {
                 continue;
             };
-            if let Decision::Witnessed(pose) = self.decide_within(target, &starts, &local, &mut others, stats) {
-                return Decided {
-                    decision: Decision::Witnessed(pose),
-                    others,
-                };
+            if let Decision::Witnessed(found) = self.decide_within(target, starts, &local, others, stats) {
+                return Some(found);
             }
         }
-        let decision = self.decide_within(target, &starts, &self.bounds, &mut others, stats);
-        Decided { decision, others }
+        None
     }
 
     pub(crate) fn decide_within(
@@ -227,21 +264,14 @@ impl Problem<'_> {
         others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
         stats: &mut SearchStats,
     ) -> Decision {
-        let proof = |rule: Rule| {
-            Decision::Infeasible(Proof {
-                rules: BTreeSet::from([rule]),
-                boxes: 1,
-            })
-        };
-        if !self.rigidly_compatible(target) {
-            return proof(Rule::RigidDistance);
-        }
-        let Some(links) = self.prover.links(target) else {
-            return proof(Rule::Propagation);
-        };
-        let conditions = Conditions {
-            links,
-            turns: self.turns(target),
+        let conditions = match self.conditions(target) {
+            Ok(conditions) => conditions,
+            Err(rule) => {
+                return Decision::Infeasible(Proof {
+                    rules: BTreeSet::from([rule]),
+                    boxes: 1,
+                });
+            }
         };
         let links = &conditions;
         let mut branching = Branching {
@@ -403,11 +433,12 @@ impl Problem<'_> {
             .filter(|&k| self.prover.split_among(b, k..k + 1).is_some())
             .map(|k| (k, score(k)))
             .collect();
+        let hinted = links.turns.split(b);
         let most = scores.iter().map(|&(_, (e, _))| e).max()?;
         if most > 0 {
             return scores.iter().find(|&&(_, (e, _))| e == most).map(|&(k, _)| k);
         }
-        if let Some(k) = links.turns.split(b).filter(|k| scores.iter().any(|&(j, _)| j == *k)) {
+        if let Some(k) = hinted.filter(|k| scores.iter().any(|&(j, _)| j == *k)) {
             return Some(k);
         }
         let least = scores.iter().map(|&(_, (_, l))| l).fold(f64::INFINITY, f64::min);

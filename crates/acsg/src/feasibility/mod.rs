@@ -1,15 +1,21 @@
 //! Geometric feasibility: is there a pose within the bounds at which a contact state
-//! holds, with no penetration? And if so, a witness pose that proves it.
+//! holds, with no penetration? Every question ends in one [`Decision`]: a verified
+//! witness pose, a proof that no pose exists (with the rules that proved it), or
+//! undecided with the smallest box the proof left open.
 //!
-//! A search has three layers:
-//! 1. a conservative reach test by interval arithmetic (can the moving element come
-//!    near the fixed one at all within the bounds?), which prunes without optimising;
-//! 2. Levenberg–Marquardt within the bounds on residuals that vanish exactly when the
-//!    contacts hold with their contact points inside the elements' relative interiors
-//!    (with a margin) and nothing penetrates, from constructive starts that place the
-//!    contact point directly;
-//! 3. verification of every pose found by the contact module: P(X) must equal the state
-//!    asked for, with no penetration. A pose showing another state is reported as such.
+//! A decision ([`Problem::decide`]) is a branch and prune over boxes of poses:
+//! 1. local searches first: Levenberg–Marquardt within the bounds on residuals that
+//!    vanish exactly when the contacts hold with their contact points inside the
+//!    elements' relative interiors (with a margin) and nothing penetrates, from warm,
+//!    anchored and constructive starts;
+//! 2. boxes are then excluded by rotation-only conditions (`turns`: ranges of turns,
+//!    wedges, faces that cannot be flush, edges that cannot be parallel) and by interval
+//!    contraction of the contact links and of face–vertex separation (`prover`), split
+//!    first by rotation, then by every coordinate, with a local search in the boxes that
+//!    survive;
+//! 3. every pose found is verified by the contact module: P(X) must equal the state
+//!    asked for, read the same at a looser tolerance, with no penetration. A pose
+//!    showing another state is reported as such.
 
 mod decide;
 mod interval;
@@ -168,14 +174,8 @@ pub enum Search {
 /// Counts of work done.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct SearchStats {
-    /// Targets pruned by the reach test (an element cannot come near the other).
+    /// Targets proved infeasible.
     pub pruned: usize,
-    /// Targets pruned by the orientation test (no rotation in the bounds puts a part
-    /// on the outer side of the other's face).
-    pub misoriented: usize,
-    /// Targets pruned by the rigid distance test (two contacts' points are too far
-    /// apart on one part and too close on the other).
-    pub incompatible: usize,
     /// Local optimisations run.
     pub optimisations: usize,
     /// Boxes of poses examined by the branch and prune of decisions.
@@ -322,34 +322,6 @@ impl<'a> Problem<'a> {
                 bounds.clamp(&pose)
             })
             .collect()
-    }
-
-    /// Cheap conservative tests that may prove that no pose in the bounds realises the
-    /// target: the rigid distance test, the orientation test over the bounds, then
-    /// interval constraint propagation with branch and prune ([`prover`]), limited to
-    /// [`BISECTION_BUDGET`] boxes. When nothing is proven, the centres of the boxes the
-    /// prover left open, as starts for the optimiser.
-    fn examine(&self, target: &[PrincipalContact], bounds: &Bounds) -> Result<Vec<Pose>, Exclusion> {
-        if !self.rigidly_compatible(target) {
-            return Err(Exclusion::Incompatible);
-        }
-        let turns = self.turns(target);
-        let orientable = |bounds: &Bounds| turns.may_hold(bounds);
-        if !orientable(bounds) {
-            return Err(Exclusion::Misoriented);
-        }
-        let open = self
-            .prover
-            .open_boxes(target, bounds, BISECTION_BUDGET, &orientable)
-            .ok_or(Exclusion::Unreachable)?;
-        Ok(open
-            .iter()
-            .map(|b| {
-                Pose::from_array(std::array::from_fn(|k| {
-                    0.5 * (b.min.to_array()[k] + b.max.to_array()[k])
-                }))
-            })
-            .collect())
     }
 
     /// Whether every two contacts of a target can hold together on a rigid body: the
@@ -528,10 +500,11 @@ impl<'a> Problem<'a> {
         )
     }
 
-    /// Searches for a witness of a contact state (its contacts sorted): first from the
-    /// warm starts, then from `constructive` starts that place the anchor contact's
-    /// points together. Poses that verify as other states are returned with
-    /// [`Search::NotFound`] so that they are not lost.
+    /// Searches for a witness of a contact state (its contacts sorted): the decision of
+    /// [`Problem::decide`] from the warm starts and `constructive` starts that place the
+    /// anchor contact's points together, as a [`Search`]: proved infeasible is
+    /// [`Search::Unreachable`], undecided is [`Search::NotFound`] with the other states
+    /// met on the way (so that they are not lost).
     pub fn find(
         &self,
         target: &[PrincipalContact],
@@ -540,92 +513,35 @@ impl<'a> Problem<'a> {
         constructive: usize,
         stats: &mut SearchStats,
     ) -> Search {
-        self.find_within(target, warm, anchor, constructive, &self.bounds, stats)
+        let starts = Starts {
+            warm,
+            anchor,
+            constructive,
+            boost: 1,
+        };
+        self.decide(target, &starts, stats).into_search(stats)
     }
 
     /// Searches for a witness of `target` close to a known `pose` (of a state that
-    /// holds it and more, say): [`Problem::find`] within small boxes around the pose,
-    /// first 1e-4 then a hundred times that (translations relative to L, angles
-    /// in radians), clipped to the bounds. A state whose neighbours hold only next to
-    /// it, at a bound, is found this way when the search over the whole bounds misses
-    /// it.
+    /// holds it and more, say): decisions within small boxes around the pose, first
+    /// 1e-4 then a hundred times that (translations relative to L, angles in radians),
+    /// clipped to the bounds. A state whose neighbours hold only next to it, at a
+    /// bound, is found this way when a search over the whole bounds misses it.
     pub fn find_near(&self, target: &[PrincipalContact], pose: Pose, stats: &mut SearchStats) -> Search {
         let mut others = Vec::new();
         let Some(anchor) = target.first() else {
             return Search::NotFound { others };
         };
-        for size in [NEAR_REL, 100.0 * NEAR_REL] {
-            let x = pose.to_array();
-            let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
-            let reach = |k: usize| if k < 3 { size * self.scale } else { size };
-            let local_lo: [f64; 6] = std::array::from_fn(|k| (x[k] - reach(k)).max(lo[k]));
-            let local_hi: [f64; 6] = std::array::from_fn(|k| (x[k] + reach(k)).min(hi[k]));
-            let Ok(local) = Bounds::try_new(local_lo, local_hi) else {
-                continue;
-            };
-            match self.find_within(target, &[pose], anchor, 2, &local, stats) {
-                Search::Found(found) => return Search::Found(found),
-                Search::NotFound { others: seen } => others.extend(seen),
-                Search::Unreachable => {}
-            }
-        }
-        Search::NotFound { others }
-    }
-
-    fn find_within(
-        &self,
-        target: &[PrincipalContact],
-        warm: &[Pose],
-        anchor: &PrincipalContact,
-        constructive: usize,
-        bounds: &Bounds,
-        stats: &mut SearchStats,
-    ) -> Search {
-        let near = match self.examine(target, bounds) {
-            Ok(near) => near,
-            Err(reason) => {
-                match reason {
-                    Exclusion::Unreachable => stats.pruned += 1,
-                    Exclusion::Misoriented => stats.misoriented += 1,
-                    Exclusion::Incompatible => stats.incompatible += 1,
-                }
-                return Search::Unreachable;
-            }
+        let starts = Starts {
+            warm: &[pose],
+            anchor,
+            constructive: 2,
+            boost: 1,
         };
-        let mut others: Vec<(Vec<PrincipalContact>, Pose)> = Vec::new();
-        let starts = warm
-            .iter()
-            .copied()
-            .chain(near.into_iter().take(PROVER_STARTS))
-            .chain(self.starts(anchor, constructive, bounds));
-        for start in starts {
-            stats.optimisations += 1;
-            let pose = self.solve(target, start, bounds);
-            let Some(report) = self.inspect(&pose) else { continue };
-            if !self.is_clean(&report, &pose) {
-                if let Some(cleared) = self.clear(target, pose, &report, bounds, stats) {
-                    return Search::Found(cleared);
-                }
-                continue;
-            }
-            let state = report.contacts;
-            if state.is_empty() {
-                continue;
-            }
-            if state == target {
-                return Search::Found(pose);
-            }
-            if is_strict_superset(&state, target) {
-                // The target held, with more contacts: push those apart from here.
-                if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
-                    return Search::Found(released);
-                }
-            }
-            if !others.iter().any(|(known, _)| *known == state) {
-                others.push((state, pose));
-            }
+        match self.decide_near(target, &starts, pose, &mut others, stats) {
+            Some(found) => Search::Found(found),
+            None => Search::NotFound { others },
         }
-        Search::NotFound { others }
     }
 
     /// A pose where the target's contacts hold with no penetration, inside the bounds,
@@ -695,7 +611,7 @@ impl<'a> Problem<'a> {
         if !is_primitive(target) {
             return Search::NotFound { others: Vec::new() };
         }
-        self.find(&[*target], &[], target, 17, stats)
+        self.find(&[*target], &[], target, PRIMITIVE_STARTS, stats)
     }
 
     /// Stage 1: every primitive contact with a verified witness.
@@ -721,23 +637,8 @@ const SEARCH_MARGIN_REL: f64 = 1e-3;
 /// a few times the separation a witness needs ([`SEPARATION_REL`]).
 const TIGHT_MARGIN_REL: f64 = 3e-6;
 
-/// The half-size of the first box [`Problem::find_near`] searches (translations
-/// relative to L, angles in radians).
-const NEAR_REL: f64 = 1e-4;
-
-/// How many of the boxes the prover leaves open become starts (the deepest first).
-const PROVER_STARTS: usize = 1;
-
-/// Boxes a target's exclusion may examine before the optimiser is called.
-const BISECTION_BUDGET: usize = 256;
-
-/// Why a target was excluded without optimising.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Exclusion {
-    Unreachable,
-    Misoriented,
-    Incompatible,
-}
+/// Constructive starts of a search for a single contact (spread orientations).
+pub(crate) const PRIMITIVE_STARTS: usize = 17;
 
 /// Whether `big` holds every contact of `small` and more (both sorted).
 fn is_strict_superset(big: &[PrincipalContact], small: &[PrincipalContact]) -> bool {

@@ -353,60 +353,6 @@ impl<'a> Prover<'a> {
         self.to_g.transform_vector3(d)
     }
 
-    /// Branch and prune over `bounds` within `budget` boxes: `None` when no pose in the
-    /// bounds realises `target` (proven), otherwise the boxes still open when the search
-    /// stopped, the deepest first (at most [`OPEN_BOXES`]). The search goes depth
-    /// first, so for a feasible target the first box is usually a tiny box around a
-    /// pose where every constraint nearly holds: a good start for the optimiser.
-    /// `survives` is an extra rotation-only test of a box (`false` drops it).
-    pub fn open_boxes(
-        &self,
-        target: &[PrincipalContact],
-        bounds: &Bounds,
-        budget: usize,
-        survives: &dyn Fn(&Bounds) -> bool,
-    ) -> Option<Vec<Bounds>> {
-        let all = self.links(target)?;
-        let mut boxes = vec![*bounds];
-        let mut budget = budget;
-        let open = |first: Bounds, rest: &[Bounds]| {
-            let mut out = vec![first];
-            out.extend(rest.iter().rev().take(OPEN_BOXES - 1));
-            Some(out)
-        };
-        while let Some(b) = boxes.pop() {
-            if budget == 0 {
-                let first = self.contract(&all, &b).unwrap_or(b);
-                return open(first, &boxes);
-            }
-            budget -= 1;
-            if !survives(&b) {
-                continue;
-            }
-            let Some(narrowed) = self.contract(&all, &b) else {
-                continue;
-            };
-            let (lo, hi) = (narrowed.min.to_array(), narrowed.max.to_array());
-            // Rotations first: their width, as an arc at the parts' size, against the
-            // translations'.
-            let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { 2.0 * self.reach };
-            let k = (0..6).max_by(|&i, &j| weight(i).total_cmp(&weight(j))).unwrap_or(0);
-            if weight(k) <= self.slack {
-                return open(narrowed, &boxes);
-            }
-            let mid = 0.5 * (lo[k] + hi[k]);
-            let (mut upper_lo, mut lower_hi) = (lo, hi);
-            upper_lo[k] = mid;
-            lower_hi[k] = mid;
-            for (l, h) in [(upper_lo, hi), (lo, lower_hi)] {
-                if let Ok(half) = Bounds::try_new(l, h) {
-                    boxes.push(half);
-                }
-            }
-        }
-        None
-    }
-
     /// Narrows the translation part of a box by every constraint of `links` until it
     /// settles; `None` when it becomes empty (no pose in the box realises the state).
     pub fn narrow(&self, links: &Links, bounds: &Bounds) -> Option<Bounds> {
@@ -434,6 +380,7 @@ impl<'a> Prover<'a> {
         // Everything that depends on the rotation only, once per box.
         let constraints: Vec<Linear> = links.iter().flat_map(|link| self.linear(link, &r)).collect();
         let moved: Vec<IVec> = self.b.vertices.iter().map(|&w| mat_vec(&r, w)).collect();
+        let normals: Vec<IVec> = self.b.planes.iter().map(|&(m, _)| mat_vec(&r, m)).collect();
         let turned_pieces: Vec<Vec<(IVec, f64)>> = self
             .b
             .pieces
@@ -473,7 +420,7 @@ impl<'a> Prover<'a> {
             for &c in &constraints {
                 narrow(c, &mut t)?;
             }
-            self.keep_apart(apart, &r, &mut t)?;
+            self.keep_apart(apart, &r, &moved, &normals, &mut t)?;
             // No vertex of the moving part strictly inside a convex piece of the fixed.
             for &(i, j) in &moving_vs_fixed {
                 let w = moved[i];
@@ -522,13 +469,22 @@ impl<'a> Prover<'a> {
     /// over a face (its box projects into one of the face's triangles) and cannot be
     /// the margin below the face's plane must be the margin above it, and the other way
     /// round.
-    fn keep_apart(&self, apart: &[Apart], r: &IntervalMat, t: &mut IVec) -> Option<()> {
+    /// `moved` holds `R w` for every vertex of the moving part and `normals` `R m` for
+    /// every face normal of it, over the box.
+    fn keep_apart(
+        &self,
+        apart: &[Apart],
+        r: &IntervalMat,
+        moved: &[IVec],
+        normals: &[IVec],
+        t: &mut IVec,
+    ) -> Option<()> {
         let m = self.margin;
         for pair in apart {
             match *pair {
                 Apart::FixedFace { face, vertex } => {
                     let (n, d) = self.a.planes[face];
-                    let rw = mat_vec(r, self.b.vertices[vertex]);
+                    let rw = moved[vertex];
                     let p = add(rw, *t);
                     let h = dot(point(n), p).sub(Interval::point(d));
                     if h.lo >= m || h.hi <= -m || !over_face(&self.a.triangles[face], n, &p, self.slack) {
@@ -552,7 +508,7 @@ impl<'a> Prover<'a> {
                 }
                 Apart::MovingFace { face, vertex } => {
                     let (mn, e) = self.b.planes[face];
-                    let u = mat_vec(r, mn);
+                    let u = normals[face];
                     let a = point(self.a.vertices[vertex]);
                     let from_t = sub(a, *t);
                     let h = dot(u, from_t).sub(Interval::point(e));
@@ -775,9 +731,6 @@ fn bounds_of(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
 /// A coordinate bound standing for "anywhere" (finite, so that `0 · FAR` is 0).
 const FAR: f64 = 1e15;
 
-/// How many open boxes [`Prover::open_boxes`] returns.
-const OPEN_BOXES: usize = 3;
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -798,8 +751,9 @@ mod tests {
     #[test]
     fn witnesses_are_never_excluded() {
         let (a, b) = (fixture("block_with_chamfered_hole.off"), fixture("peg.off"));
-        let scene = crate::contact::ContactScene::new(&a, &b);
-        let prover = Prover::new(&a, &b, &DAffine3::IDENTITY, scene.scale());
+        let r = 2f64.to_radians();
+        let full = Bounds::try_new([-2.0, -2.0, 0.0, -r, -r, -r], [2.0, 2.0, 45.0, r, r, r]).unwrap();
+        let problem = super::super::Problem::new(&a, &b, full, DAffine3::IDENTITY);
         for pose in [
             [
                 -0.02143060850670711,
@@ -812,17 +766,13 @@ mod tests {
             [-1.0, 0.0, 0.0, 4.085204392092581e-17, 1.4704830081180945e-14, 0.0],
         ] {
             let t = Pose::from_array(pose).to_affine(&DAffine3::IDENTITY);
-            let state = scene.evaluate(&t, CONTACT_REL).contacts;
+            let state = problem.scene().evaluate(&t, CONTACT_REL).contacts;
             assert!(!state.is_empty());
-            let r = 2f64.to_radians();
-            let full = Bounds::try_new([-2.0, -2.0, 0.0, -r, -r, -r], [2.0, 2.0, 45.0, r, r, r]).unwrap();
-            assert!(
-                prover.open_boxes(&state, &full, 256, &|_| true).is_some(),
-                "{state:?} in the full bounds"
-            );
+            assert_eq!(problem.exclusion(&state, &full), None, "{state:?} in the full bounds");
             for eps in [0.0, 1e-9, 1e-4] {
-                assert!(
-                    prover.open_boxes(&state, &around(pose, eps), 64, &|_| true).is_some(),
+                assert_eq!(
+                    problem.exclusion(&state, &around(pose, eps)),
+                    None,
                     "{state:?} at {pose:?} ± {eps}"
                 );
             }
@@ -849,10 +799,14 @@ mod tests {
                     let pose = problem.solve(&[ppc], start, problem.bounds());
                     if let Some(state) = problem.verify(&pose) {
                         checked += 1;
-                        assert!(
-                            problem.examine(&state, problem.bounds()).is_ok(),
-                            "{state:?} excluded, witness {pose:?}"
-                        );
+                        let at = Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
+                        for b in [*problem.bounds(), at] {
+                            assert_eq!(
+                                problem.exclusion(&state, &b),
+                                None,
+                                "{state:?} excluded, witness {pose:?}"
+                            );
+                        }
                     }
                 }
             }

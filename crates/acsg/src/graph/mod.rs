@@ -2,21 +2,24 @@
 //! bounds shows (DOMAIN.md section 4), each with a verified witness, and the neighbour
 //! relation between them.
 //!
-//! The generator follows the paper's two stages:
-//! 1. every primitive principal contact (PPC) is tested for feasibility
-//!    ([`Problem::find_primitive`](crate::feasibility::Problem::find_primitive));
-//! 2. breadth first, each state is grown by one feasible PPC it does not imply; the
-//!    combination is mapped by the derived rules ([`rules::grow`]), pruned when it
-//!    cannot exist or is already known, and otherwise searched for with warm starts
-//!    from the parent's and the PPC's witnesses.
+//! The generator follows the paper's two stages, with every candidate decided
+//! ([`Problem::decide`](crate::feasibility::Problem::decide)): witnessed, proved
+//! infeasible, or recorded as undecided:
+//! 1. every single contact (each primitive principal contact, faces on faces, edges in
+//!    faces, contacts in concave edges and corners) is decided on its own;
+//! 2. breadth first, each state is grown by every single-contact state it does not
+//!    imply; the combination is mapped by the derived rules under every outcome
+//!    ([`rules::grow_every`]), pruned when it cannot exist or is already known, and
+//!    otherwise decided with warm starts from the parent's and the addition's witnesses.
 //!
 //! When the growth settles, every state is also searched one contact below, from its
-//! witness (descents); what they find grows again. Neighbour edges join states one PPC
-//! apart under every mapping outcome ([`rules::grow_every`]).
+//! witness (descents); what they find grows again. Neighbour edges join states one
+//! contact apart, and states whose touching regions meet (found by small probes from
+//! each witness).
 //!
 //! A state's identity is P(X) at its witness: a search that lands on a pose showing
 //! another state records that state (if new). Every witness is verified by the contact
-//! module before the state is kept. Candidates of one breadth-first level are searched
+//! module before the state is kept. Candidates of one breadth-first level are decided
 //! in parallel and merged in a fixed order, so the output does not depend on the
 //! number of threads.
 
@@ -32,7 +35,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::PrincipalContact;
-use crate::feasibility::{Decided, Decision, Problem, SearchStats, Starts, is_primitive, single_contacts};
+use crate::feasibility::{
+    Decided, Decision, PRIMITIVE_STARTS, Problem, SearchStats, Starts, is_primitive, single_contacts,
+};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose};
 
@@ -264,8 +269,6 @@ struct Candidate {
 /// tenth of the way.
 const PROBE_STEP: f64 = 1e-4;
 
-/// Constructive starts of a stage-1 search (spread orientations).
-const PRIMITIVE_STARTS: usize = 17;
 /// How many times the effort stage 1 spends on each single contact: they are few, and
 /// every state grows from them.
 const SINGLE_BOOST: u32 = 4;
