@@ -26,7 +26,7 @@ mod touch;
 
 use std::fmt;
 
-use glam::DAffine3;
+use glam::{DAffine3, DVec3};
 use serde::{Deserialize, Serialize};
 
 pub use bvh::{Bounds3, Bvh};
@@ -228,6 +228,20 @@ impl<'a> ContactScene<'a> {
     #[must_use]
     pub fn penetration_excess(&self, moving_to_fixed: &DAffine3) -> f64 {
         penetration::penetration_excess(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed)
+    }
+
+    /// The open intervals of `s` over which the moving part, placed by
+    /// `moving_to_fixed` and then translated by `s · direction`, penetrates the fixed
+    /// part by more than `depth` ([`penetration::blocked_along`]).
+    #[must_use]
+    pub fn blocked_along(&self, moving_to_fixed: &DAffine3, direction: DVec3, depth: f64) -> Vec<(f64, f64)> {
+        penetration::blocked_along(
+            &self.fixed_pieces,
+            &self.moving_pieces,
+            moving_to_fixed,
+            direction,
+            depth,
+        )
     }
 
     /// The distance between the closures of two elements of one part (the fixed one

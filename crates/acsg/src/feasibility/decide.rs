@@ -295,11 +295,19 @@ impl Problem<'_> {
             return decision;
         }
         // The warm starts and the constructive starts.
-        let constructive = self.starts(starts.anchor, starts.constructive, bounds);
+        // The anchor first, then the target's other contacts in turn.
+        let anchors: Vec<PrincipalContact> = std::iter::once(*starts.anchor)
+            .chain(target.iter().copied().filter(|pc| pc != starts.anchor))
+            .collect();
+        let constructive = self.starts(&anchors, starts.constructive, bounds);
         for start in starts.warm.iter().copied().chain(constructive) {
             if let Some(pose) = self.search_from(target, start, bounds, others, stats) {
                 return Decision::Witnessed(pose);
             }
+        }
+        // Point contacts that pin the translation to a line: a search over the rotation.
+        if let Some(pose) = self.slide_search(target, bounds, true, others) {
+            return Decision::Witnessed(pose);
         }
         // Then inside the boxes of rotations that stay open, level by level (the local
         // searches left counted down).
@@ -372,9 +380,19 @@ impl Problem<'_> {
                 Ok(narrowed) => narrowed,
             };
             if let Some(left) = searches.as_deref_mut() {
+                // Sliding is cheap (one sweep of the pieces along a line): every box
+                // that survives gets it at its central rotation.
+                let c = narrowed.center().to_array();
+                if let Some(pose) = self.slide(target, [c[3], c[4], c[5]], &narrowed, others) {
+                    return Some(Decision::Witnessed(pose));
+                }
                 if depth > 0 && depth % SEARCH_EVERY == 0 && *left > 0 {
                     *left -= 1;
-                    if let Some(pose) = self.search_from(target, narrowed.center(), &narrowed, others, stats) {
+                    if let Some(pose) = self.slide_search(target, &narrowed, false, others) {
+                        return Some(Decision::Witnessed(pose));
+                    }
+                    let start = self.box_start(target, &narrowed, *left);
+                    if let Some(pose) = self.search_from(target, start, &narrowed, others, stats) {
                         return Some(Decision::Witnessed(pose));
                     }
                 }
@@ -390,6 +408,9 @@ impl Problem<'_> {
                 None => {
                     // Below the slack and not excluded: a last search from its centre,
                     // then it stays open.
+                    if let Some(pose) = self.slide_within(target, &narrowed, others) {
+                        return Some(Decision::Witnessed(pose));
+                    }
                     if let Some(pose) = self.search_from(target, narrowed.center(), &narrowed, others, stats) {
                         return Some(Decision::Witnessed(pose));
                     }
@@ -472,6 +493,34 @@ impl Problem<'_> {
             return Err(Rule::Penetration);
         }
         Ok(narrowed)
+    }
+
+    /// A witness found by sliding ([`Problem::slide`]) at rotations spread over a box:
+    /// its centre, then the centres of its eight octants of rotation.
+    fn slide_within(
+        &self,
+        target: &[PrincipalContact],
+        b: &Bounds,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+    ) -> Option<Pose> {
+        let (lo, hi) = (b.min.to_array(), b.max.to_array());
+        let at = |w: [f64; 3]| -> [f64; 3] { std::array::from_fn(|k| lo[3 + k] + (hi[3 + k] - lo[3 + k]) * w[k]) };
+        let quarter = |bit: u32| 0.25 + 0.5 * f64::from(bit);
+        std::iter::once([0.5; 3])
+            .chain((0..8u32).map(|c| [quarter(c & 1), quarter((c >> 1) & 1), quarter((c >> 2) & 1)]))
+            .find_map(|w| self.slide(target, at(w), b, others))
+    }
+
+    /// A start inside a box for its `k`-th search: at the box's central rotation, the
+    /// translation that puts the points of one of the target's contacts together (the
+    /// contact and the points chosen by `k`), clamped to the box. The box's centre
+    /// alone rarely shows a contact: a thin region of poses needs the contact placed.
+    fn box_start(&self, target: &[PrincipalContact], b: &Bounds, k: usize) -> Pose {
+        let c = b.center().to_array();
+        match target.get(k % target.len().max(1)) {
+            Some(anchor) => self.placed(anchor, k / target.len(), [c[3], c[4], c[5]], b),
+            None => b.center(),
+        }
     }
 
     /// How far any point of the moving part can move between a box's centre and any

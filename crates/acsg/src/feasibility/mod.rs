@@ -21,6 +21,7 @@ mod decide;
 mod interval;
 mod prover;
 mod residual;
+mod slide;
 mod solver;
 mod turns;
 
@@ -287,9 +288,10 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// Starting poses that put the anchor contact's points together, for up to `count`
-    /// orientations spread over the bounds (the centre first, then the octants).
-    fn starts(&self, anchor: &PrincipalContact, count: usize, bounds: &Bounds) -> Vec<Pose> {
+    /// Starting poses that put an anchor contact's points together (the anchors in
+    /// turn), for up to `count` orientations spread over the bounds (the centre first,
+    /// then the octants).
+    fn starts(&self, anchors: &[PrincipalContact], count: usize, bounds: &Bounds) -> Vec<Pose> {
         let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
         let mut orientations = vec![[0.5, 0.5, 0.5]];
         for corner in 0..8 {
@@ -303,25 +305,29 @@ impl<'a> Problem<'a> {
             orientations.push(std::array::from_fn(|k| f64::from((corner >> k) & 1)));
         }
         let angle = |w: &[f64; 3], k: usize| lo[3 + k] + (hi[3 + k] - lo[3 + k]) * w[k];
-        let g_inverse = self.assembled.inverse();
-        orientations
-            .into_iter()
-            .take(count)
-            .enumerate()
-            .map(|(i, w)| {
-                // Where the contact point should go (A's frame) and which point of B it
-                // is: the elements' centres first, then other points of them, so that
-                // starts differ even when the rotation is fixed.
-                let goal = anchor_point(self.fixed, &self.fixed_faces, anchor.fixed, i);
-                let on_b = anchor_point(self.moving, &self.moving_faces, anchor.moving, i / 3);
-                let mut pose = Pose::from_array([0.0, 0.0, 0.0, angle(&w, 0), angle(&w, 1), angle(&w, 2)]);
-                let t = g_inverse.transform_point3(goal) - pose.rotation() * on_b;
-                pose.x = t.x;
-                pose.y = t.y;
-                pose.z = t.z;
-                bounds.clamp(&pose)
+        // Each orientation with every anchor in turn.
+        let n = anchors.len().max(1);
+        (0..count)
+            .filter_map(|i| {
+                let w = orientations.get(i / n)?;
+                let anchor = anchors.get(i % n)?;
+                Some(self.placed(anchor, i / n, [angle(w, 0), angle(w, 1), angle(w, 2)], bounds))
             })
             .collect()
+    }
+
+    /// A pose at the given angles whose translation puts the anchor contact's `i`-th
+    /// pair of points together: the elements' centres first, then other points of
+    /// them, so that starts differ even when the rotation is fixed. Clamped to `bounds`.
+    fn placed(&self, anchor: &PrincipalContact, i: usize, angles: [f64; 3], bounds: &Bounds) -> Pose {
+        let goal = anchor_point(self.fixed, &self.fixed_faces, anchor.fixed, i);
+        let on_b = anchor_point(self.moving, &self.moving_faces, anchor.moving, i / 3);
+        let mut pose = Pose::from_array([0.0, 0.0, 0.0, angles[0], angles[1], angles[2]]);
+        let t = self.assembled.inverse().transform_point3(goal) - pose.rotation() * on_b;
+        pose.x = t.x;
+        pose.y = t.y;
+        pose.z = t.z;
+        bounds.clamp(&pose)
     }
 
     /// Whether every two contacts of a target can hold together on a rigid body: the

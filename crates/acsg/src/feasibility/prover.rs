@@ -795,7 +795,7 @@ mod tests {
             let problem = super::super::Problem::new(&a, &b, bounds, DAffine3::IDENTITY);
             let mut checked = 0;
             for ppc in super::super::primitive_contacts(&a, &b) {
-                for start in problem.starts(&ppc, 3, problem.bounds()) {
+                for start in problem.starts(&[ppc], 3, problem.bounds()) {
                     let pose = problem.solve(&[ppc], start, problem.bounds());
                     if let Some(state) = problem.verify(&pose) {
                         checked += 1;

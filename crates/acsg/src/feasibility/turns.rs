@@ -16,7 +16,7 @@ use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::model::{ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
-use crate::tolerance::{CONTACT_REL, scaled};
+use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 
 /// `n · (R d)` must meet `[lo, hi]`.
 #[derive(Clone, Copy, Debug)]
@@ -59,10 +59,18 @@ struct Flush {
     side: Option<(DVec3, DVec3)>,
 }
 
+/// How far (a sine) a part may turn into the other beyond a contact and still not
+/// penetrate it by more than the contact tolerance: its element reaches into the other
+/// part only up to the nearest boundary, which may be as close as the prover's margin
+/// (half the separation) to the contact point. Four times their ratio, for safety.
+const LEVER_SLACK: f64 = 4.0 * CONTACT_REL / (0.5 * SEPARATION_REL);
+
 /// The rotation-only conditions of a target, prepared once for many boxes.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Turns {
     turns: Vec<Turn>,
+    /// `n · (R d)` must leave the open interval `(lo, hi)`.
+    avoid: Vec<Turn>,
     wedges: Vec<Wedge>,
     askew: Vec<Askew>,
     flush: Vec<Flush>,
@@ -104,6 +112,9 @@ impl Turns {
         self.turns.iter().all(|t| {
             let v = value(&r, t.n, t.d);
             v.hi >= t.lo && v.lo <= t.hi
+        }) && self.avoid.iter().all(|t| {
+            let v = value(&r, t.n, t.d);
+            v.lo <= t.lo || v.hi >= t.hi
         }) && self.wedges.iter().all(|w| w.sides(&r).0)
             && self.askew.iter().all(|a| {
                 a.components.iter().any(|&(n, d)| {
@@ -129,6 +140,12 @@ impl Turns {
         for t in &self.turns {
             let v = value(&r, t.n, t.d);
             if v.lo < t.lo || v.hi > t.hi {
+                terms.push((t.n, t.d));
+            }
+        }
+        for t in &self.avoid {
+            let v = value(&r, t.n, t.d);
+            if v.lo < t.hi && v.hi > t.lo && (v.lo <= t.lo || v.hi >= t.hi) {
                 terms.push((t.n, t.d));
             }
         }
@@ -183,21 +200,21 @@ impl Problem<'_> {
         // when its ends are that close to the plane, so its direction may be off the
         // plane by (tolerance / ℓ); ten times that, as the prover allows.
         let tilt = |length: f64| (scaled(10.0 * CONTACT_REL, self.scale) / length).max(slack);
-        // Half the separation: a margin no witness can lack.
-        let rise = 0.5 * self.separation();
         // Everything in G's frame, where the rotation enclosures are of R.
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
-        // The directions in which an element's part leaves it, each with the least
-        // value its component along the other face's normal may take:
-        // - at a vertex in a face's interior, its edges, which must rise at least half
-        //   the separation over their length (a neighbour closer to the plane than that
-        //   is a pair closer than a witness allows, or lies in the plane: another
-        //   contact);
-        // - at an edge lying in a face, its faces' directions across it, which must
-        //   rise too: a face whose corners all lie within the separation of the plane
-        //   is read as lying in it (face on face), so its farthest corner from the edge
-        //   rises at least half the separation;
+        // Half the separation: a margin no witness can lack.
+        let rise = 0.5 * self.separation();
+        // The directions in which an element's part leaves it, each with how far its
+        // component along the other face's normal must stay from zero (`flat`):
+        // - at a vertex in a face's interior, its edges: one whose far end lies within
+        //   half the separation of the plane lies in the face at the loosest tolerance
+        //   (the edge near the vertex is over the face), another reading;
+        // - at an edge lying in a face, its faces' directions across it: a face whose
+        //   corners all lie that close to the plane is read as lying in it;
         // - nothing at a face on a face: its ends may run off the other face.
+        // They need not rise: an edge or face may dip past the other face's boundary
+        // near the contact, but not by more than [`LEVER_SLACK`] (it would then
+        // penetrate within the prover's margin).
         let leaving = |part: &Part, e: ElementId| -> Vec<(DVec3, f64)> {
             match e {
                 ElementId::Vertex(v) => part
@@ -245,8 +262,9 @@ impl Problem<'_> {
         match (pc.fixed, pc.moving) {
             (ElementId::Face(f), b) => {
                 let n = to_g(self.fixed.face(f).normal);
-                for (d, least) in leaving(self.moving, b) {
-                    out.turns.push(turn(n, d, least, f64::INFINITY));
+                for (d, flat) in leaving(self.moving, b) {
+                    out.turns.push(turn(n, d, -LEVER_SLACK, f64::INFINITY));
+                    out.avoid.push(turn(n, d, -flat, flat));
                 }
                 for (d, slack) in within(self.moving, b) {
                     out.turns.push(turn(n, d, -slack, slack));
@@ -276,8 +294,9 @@ impl Problem<'_> {
             (a, ElementId::Face(g)) => {
                 // In B's frame: A's directions d against R n_g, i.e. d · (R n_g).
                 let m = self.moving.face(g).normal;
-                for (d, least) in leaving(self.fixed, a) {
-                    out.turns.push(turn(to_g(d), m, least, f64::INFINITY));
+                for (d, flat) in leaving(self.fixed, a) {
+                    out.turns.push(turn(to_g(d), m, -LEVER_SLACK, f64::INFINITY));
+                    out.avoid.push(turn(to_g(d), m, -flat, flat));
                 }
                 for (d, slack) in within(self.fixed, a) {
                     out.turns.push(turn(to_g(d), m, -slack, slack));
@@ -337,7 +356,14 @@ impl Problem<'_> {
                         .map(|&u| (to_g(u).cross(de), dx))
                         .collect(),
                     on_b: self.moving.edge_wedge(x).iter().map(|&v| (de, dx.cross(v))).collect(),
-                    slack: tilt(le.min(lx)),
+                    // A face of one part turned by v into the other's side of the plane
+                    // is in it only up to the nearest end of the edges, which may be
+                    // as close as the prover's margin (half the separation) to the
+                    // crossing: a penetration of v times that, within the tolerance
+                    // while v is below their ratio (two boxes side by side, one's top
+                    // edge crossing the other's at a grazing angle). Four times it,
+                    // for safety.
+                    slack: tilt(le.min(lx)).max(LEVER_SLACK),
                 });
             }
             (a, b) => {
@@ -389,4 +415,51 @@ fn diameter(part: &Part, f: FaceId) -> f64 {
     let lo = points.iter().copied().fold(DVec3::INFINITY, DVec3::min);
     let hi = points.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
     lo.distance(hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::ContactKind as K;
+
+    #[test]
+    fn a_grazing_crossing_over_a_wall_is_not_excluded_by_the_wedge() {
+        // The box stands on the L-block's step against its wall; its top edge, turned
+        // 7.7e-5 rad, crosses the wall's top edge 2.8e-3 mm from its end, lying 2e-7
+        // mm inside the wall there (within the tolerance). Both parts lie below the
+        // plane through the two edges, yet the wall's face separates them: the contact
+        // module reads the state at this pose, so no rotation rule may exclude it.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let contact = |fixed: &str, moving: &str, kind| PrincipalContact {
+            fixed: fixed.parse().unwrap(),
+            moving: moving.parse().unwrap(),
+            kind,
+        };
+        let mut target = vec![
+            contact("f3", "f2", K::FaceFace),
+            contact("f5", "e11", K::FaceEdge),
+            contact("e10", "e10", K::EdgeEdge),
+        ];
+        target.sort();
+        let x = [
+            -0.006902579441998569,
+            0.0,
+            3.213270360902243e-7,
+            0.0,
+            2.142180201833669e-9,
+            -7.669903939428206e-5,
+        ];
+        assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(target.clone()));
+        let at = Bounds::try_new(x, x).unwrap();
+        assert!(problem.turns(&target).may_hold(&at));
+        // Turned 0.1 rad instead, the edges are far from parallel and the wedge rule
+        // stands: both parts below the plane through the edges cannot be.
+        let mut far = x;
+        far[5] = -0.1;
+        let at_far = Bounds::try_new(far, far).unwrap();
+        let only_crossing = [contact("e10", "e10", K::EdgeEdge)];
+        let turns = problem.turns(&only_crossing);
+        assert!(turns.wedges.iter().any(|w| !w.sides(&rotation_enclosure(&at_far)).0));
+    }
 }

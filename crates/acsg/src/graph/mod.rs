@@ -274,7 +274,7 @@ const PROBE_STEP: f64 = 1e-4;
 const SINGLE_BOOST: u32 = 4;
 
 /// Constructive starts of a stage-2 search (after the warm starts).
-const GROWTH_STARTS: usize = 2;
+const GROWTH_STARTS: usize = 4;
 
 impl<'a> Generator<'a> {
     fn new(fixed: &'a Part, moving: &'a Part, bounds: &Bounds, options: &'a Options) -> Generator<'a> {
