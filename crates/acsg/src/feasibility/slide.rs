@@ -217,23 +217,7 @@ impl Problem<'_> {
         let linear = self.linear(target, &base)?;
         // The translation: u = u0 + s d on the solution line (a point when d = 0).
         let tol = scaled(CONTACT_REL, self.scale);
-        let mut basis: Vec<(DVec3, f64)> = Vec::new();
-        for &(a, b) in &linear.rows {
-            let (mut a2, mut b2) = (a, b);
-            for &(q, r) in &basis {
-                let k = a2.dot(q);
-                a2 -= k * q;
-                b2 -= k * r;
-            }
-            let length = a2.length();
-            if length <= 1e-9 * a.length() {
-                if b2.abs() > tol * a.length().max(1e-300) {
-                    return None;
-                }
-                continue;
-            }
-            basis.push((a2 / length, b2 / length));
-        }
+        let basis = orthonormal(linear.rows.iter().copied(), Some(tol))?;
         let u0: DVec3 = basis.iter().map(|&(q, r)| q * r).sum();
         let d = match basis[..] {
             [_, _, _] => DVec3::ZERO,
@@ -474,19 +458,7 @@ impl Problem<'_> {
             });
             // The minimum-norm step J⁺ c, rows made orthonormal (a condition repeated by
             // another contact drops out).
-            let mut basis: Vec<(DVec3, f64)> = Vec::new();
-            for (a, r) in rows {
-                let (mut a2, mut r2) = (a, r);
-                for &(q, rq) in &basis {
-                    let k = a2.dot(q);
-                    a2 -= k * q;
-                    r2 -= k * rq;
-                }
-                let length = a2.length();
-                if length > 1e-9 * a.length().max(1e-300) {
-                    basis.push((a2 / length, r2 / length));
-                }
-            }
+            let basis = orthonormal(rows, None)?;
             let step: DVec3 = basis.iter().map(|&(q, r)| q * r).sum();
             if !step.is_finite() || basis.is_empty() {
                 return None;
@@ -604,6 +576,29 @@ fn in_triangle(t: &[DVec3; 3], x: DVec3, dx: DVec3) -> Option<(f64, f64)> {
     (lo <= hi).then_some((lo, hi))
 }
 
+/// Equations `a · x = b` made orthonormal (Gram–Schmidt): their minimum-norm solution
+/// is `Σ q r` over the rows `(q, r)` returned. A row that depends on the earlier ones
+/// is dropped; with `tol`, `None` when its right-hand side then disagrees by more than
+/// `tol` (a length, per unit of `a`).
+fn orthonormal(rows: impl IntoIterator<Item = (DVec3, f64)>, tol: Option<f64>) -> Option<Vec<(DVec3, f64)>> {
+    let mut basis: Vec<(DVec3, f64)> = Vec::new();
+    for (a, b) in rows {
+        let (mut a2, mut b2) = (a, b);
+        for &(q, r) in &basis {
+            let k = a2.dot(q);
+            a2 -= k * q;
+            b2 -= k * r;
+        }
+        let length = a2.length();
+        if length > 1e-9 * a.length().max(1e-300) {
+            basis.push((a2 / length, b2 / length));
+        } else if tol.is_some_and(|tol| b2.abs() > tol * a.length()) {
+            return None;
+        }
+    }
+    Some(basis)
+}
+
 /// The distance from `x` to a triangle (to its plane's nearest point when that falls
 /// inside, else to its nearest side).
 fn triangle_distance(t: &[DVec3; 3], x: DVec3) -> f64 {
@@ -680,6 +675,17 @@ fn subtract(x: &[(f64, f64)], cut: Intervals) -> Intervals {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn repeated_equations_drop_out_and_contradicting_ones_fail() {
+        let rows = [(DVec3::Z, 2.0), (2.0 * DVec3::Z, 4.0), (DVec3::X, 1.0)];
+        let basis = orthonormal(rows, Some(1e-12)).unwrap();
+        assert_eq!(basis.len(), 2);
+        let x: DVec3 = basis.iter().map(|&(q, r)| q * r).sum();
+        assert!(x.abs_diff_eq(DVec3::new(1.0, 0.0, 2.0), 1e-12));
+        assert!(orthonormal([(DVec3::Z, 2.0), (DVec3::Z, 3.0)], Some(1e-12)).is_none());
+        assert_eq!(orthonormal([(DVec3::Z, 2.0), (DVec3::Z, 3.0)], None).unwrap().len(), 1);
+    }
 
     #[test]
     fn intervals_subtract_and_intersect() {
