@@ -141,7 +141,7 @@ impl Problem<'_> {
     /// A witness of `target` at a rotation within box `b`, found by compass searches
     /// over the rotation that minimise [`Problem::slide_gap`]: from near the box's
     /// central rotation, then (with `spread`) from near the centres of its eight
-    /// octants. `None` when the contacts do not pin the translation or no search ends
+    /// octants and near its eight corners. `None` when the contacts do not pin the translation or no search ends
     /// on a free stretch.
     pub(super) fn slide_search(
         &self,
@@ -155,8 +155,15 @@ impl Problem<'_> {
         let octant = |c: u32| -> [f64; 3] {
             std::array::from_fn(|k| 0.25 + 0.5 * f64::from((c >> k) & 1) + OFF_CENTRE[k] - 0.5)
         };
+        // Thin states often hold only against a bound of the rotation: the corners too,
+        // just inside.
+        let corner = |c: u32| -> [f64; 3] {
+            std::array::from_fn(|k| 0.05 + 0.9 * f64::from((c >> k) & 1) + OFF_CENTRE[k] - 0.5)
+        };
         let count = if spread { 8 } else { 0 };
-        let mut starts = std::iter::once(OFF_CENTRE).chain((0..count).map(octant));
+        let mut starts = std::iter::once(OFF_CENTRE)
+            .chain((0..count).map(octant))
+            .chain((0..count).map(corner));
         let first = starts.next()?;
         // A target the slide cannot take is known at the first start.
         let found = self.slide_search_from(target, b, first, others)?;
