@@ -495,8 +495,8 @@ impl Problem<'_> {
         Ok(narrowed)
     }
 
-    /// A witness found by sliding ([`Problem::slide`]) at rotations spread over a box:
-    /// its centre, then the centres of its eight octants of rotation.
+    /// A witness found by sliding ([`Problem::slide`]) at the centres of a box's eight
+    /// octants of rotation (its centre was slid when the box was examined).
     fn slide_within(
         &self,
         target: &[PrincipalContact],
@@ -506,8 +506,8 @@ impl Problem<'_> {
         let (lo, hi) = (b.min.to_array(), b.max.to_array());
         let at = |w: [f64; 3]| -> [f64; 3] { std::array::from_fn(|k| lo[3 + k] + (hi[3 + k] - lo[3 + k]) * w[k]) };
         let quarter = |bit: u32| 0.25 + 0.5 * f64::from(bit);
-        std::iter::once([0.5; 3])
-            .chain((0..8u32).map(|c| [quarter(c & 1), quarter((c >> 1) & 1), quarter((c >> 2) & 1)]))
+        (0..8u32)
+            .map(|c| [quarter(c & 1), quarter((c >> 1) & 1), quarter((c >> 2) & 1)])
             .find_map(|w| self.slide(target, at(w), b, others))
     }
 

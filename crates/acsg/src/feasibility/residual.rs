@@ -285,7 +285,7 @@ pub(crate) fn edge_crossing(a: Side, e: EdgeId, b: Side, x: EdgeId, map: &DAffin
 }
 
 /// Two directions perpendicular to `d` (unit length, orthogonal to each other).
-fn perpendiculars(d: DVec3) -> [DVec3; 2] {
+pub(super) fn perpendiculars(d: DVec3) -> [DVec3; 2] {
     let d = d.normalize_or_zero();
     let p = d.any_orthonormal_vector();
     [p, d.cross(p)]
