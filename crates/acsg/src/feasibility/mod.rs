@@ -19,6 +19,7 @@
 
 mod decide;
 mod interval;
+mod lp;
 mod prover;
 mod residual;
 mod slide;

@@ -7,11 +7,19 @@
 //! edges in one plane, the contact point inside both elements' boxes. Non-penetration
 //! gives more: no vertex of one part strictly inside a convex piece of the other. Each
 //! constraint narrows the translation box; an empty box proves that no pose in it
-//! realises the state. Boxes that survive are split (rotations first, they are what the
-//! intervals overestimate) up to a budget. Every step is an enclosure, so a target is
-//! only ever excluded when no pose in the bounds can show it.
+//! realises the state. Points of edges that pass through a piece of the other part (at
+//! the box's centre) are kept out like vertices: two pieces can cross with no vertex of
+//! either inside the other. In boxes of small rotations a second-order test follows
+//! ([`linearised`]): every condition becomes linear in the translation and the turn, up
+//! to a remainder quadratic in the box, and linear programming, by cases over the
+//! either-or conditions, proves what no single condition shows. Boxes that survive are
+//! split (rotations first, they are what the intervals overestimate) up to a budget.
+//! Every step is an enclosure, so a target is only ever excluded when no pose in the
+//! bounds can show it.
 
 use glam::{DAffine3, DVec3};
+
+mod linearised;
 
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
@@ -59,9 +67,26 @@ enum Apart {
     MovingFace { face: usize, vertex: usize },
 }
 
+/// Points of edges inside a piece of the other part.
+#[derive(Default)]
+struct Through {
+    moving: Vec<EdgePoint>,
+    fixed: Vec<EdgePoint>,
+}
+
+/// A point of an edge (in its part's frame) inside a piece of the other part.
+#[derive(Clone, Copy, Debug)]
+struct EdgePoint {
+    edge: usize,
+    point: DVec3,
+    piece: usize,
+}
+
 /// One part's geometry as the prover uses it (the fixed part in G's frame).
 struct Shape {
     vertices: Vec<DVec3>,
+    /// Per edge: its end points' indices.
+    edges: Vec<[usize; 2]>,
     /// Per face: outward normal and offset.
     planes: Vec<(DVec3, f64)>,
     /// Per convex piece: its bounding planes.
@@ -84,6 +109,7 @@ impl Shape {
                 .iter()
                 .map(|v| frame.transform_point3(v.position))
                 .collect(),
+            edges: part.edges().iter().map(|e| e.vertices.map(|v| v.index())).collect(),
             planes: part.faces().iter().map(|f| plane(f.normal, f.offset)).collect(),
             pieces: part
                 .convex_pieces()
@@ -356,7 +382,8 @@ impl<'a> Prover<'a> {
     /// Narrows the translation part of a box by every constraint of `links` until it
     /// settles; `None` when it becomes empty (no pose in the box realises the state).
     pub fn narrow(&self, links: &Links, bounds: &Bounds) -> Option<Bounds> {
-        self.contract(links, bounds)
+        let narrowed = self.contract(links, bounds)?;
+        self.linearised(links, &narrowed)
     }
 
     /// The component among `components` to halve, rotations weighed as the arc they
@@ -415,6 +442,12 @@ impl<'a> Prover<'a> {
             .flat_map(|i| (0..turned_boxes.len()).map(move |j| (i, j)))
             .filter(|&(i, j)| meets(sub(point(self.a.vertices[i]), t), turned_boxes[j]))
             .collect();
+        // Points of edges that pass through a piece of the other part at the box's
+        // centre: kept out of it like the vertices (two pieces can cross with no
+        // vertex of either inside the other).
+        let through = self.edges_through(&bounds.center());
+        let moved_through: Vec<(IVec, usize)> =
+            through.moving.iter().map(|p| (mat_vec(&r, p.point), p.piece)).collect();
         for _round in 0..6 {
             let before = t;
             for &c in &constraints {
@@ -422,13 +455,15 @@ impl<'a> Prover<'a> {
             }
             self.keep_apart(apart, &r, &moved, &normals, &mut t)?;
             // No vertex of the moving part strictly inside a convex piece of the fixed.
-            for &(i, j) in &moving_vs_fixed {
-                let w = moved[i];
+            let moving_points = moving_vs_fixed
+                .iter()
+                .map(|&(i, j)| (moved[i], j))
+                .chain(moved_through.iter().copied());
+            for (w, j) in moving_points {
                 let p = add(w, t);
                 outside_some(
                     self.a.pieces[j].iter().map(|&(n, d)| (point(n), d)),
                     |(coeffs, d)| {
-                        // n · (R w + t) ≥ d − s
                         let value = dot(coeffs, p);
                         let bound = Linear {
                             coeffs,
@@ -440,8 +475,11 @@ impl<'a> Prover<'a> {
                 )?;
             }
             // No vertex of the fixed part strictly inside a convex piece of the moving.
-            for &(i, j) in &fixed_vs_moving {
-                let a = self.a.vertices[i];
+            let fixed_points = fixed_vs_moving
+                .iter()
+                .map(|&(i, j)| (self.a.vertices[i], j))
+                .chain(through.fixed.iter().map(|p| (p.point, p.piece)));
+            for (a, j) in fixed_points {
                 let q = sub(point(a), t);
                 outside_some(
                     turned_pieces[j].iter().copied(),
@@ -463,6 +501,60 @@ impl<'a> Prover<'a> {
             }
         }
         Some(with_translation(bounds, &t))
+    }
+
+    /// Points of edges that pass through a convex piece of the other part at a pose
+    /// (the middle of the stretch inside, each edge and piece at most once): the
+    /// moving part's in its frame, the fixed part's in G's.
+    fn edges_through(&self, pose: &crate::pose::Pose) -> Through {
+        let (r, t) = (pose.rotation(), pose.translation());
+        let placed: Vec<DVec3> = self.b.vertices.iter().map(|&w| r * w + t).collect();
+        let back: Vec<DVec3> = self.a.vertices.iter().map(|&a| r.transpose() * (a - t)).collect();
+        let inside = |p0: DVec3, p1: DVec3, planes: &[(DVec3, f64)], (lo, hi): (DVec3, DVec3)| -> Option<f64> {
+            if p0.min(p1).cmpgt(hi).any() || p0.max(p1).cmplt(lo).any() {
+                return None;
+            }
+            let (mut from, mut to) = (0.0_f64, 1.0_f64);
+            for &(n, d) in planes {
+                let (a, b) = (n.dot(p0) - d, n.dot(p1 - p0));
+                if b.abs() < 1e-15 {
+                    if a >= 0.0 {
+                        return None;
+                    }
+                } else if b > 0.0 {
+                    to = to.min(-a / b);
+                } else {
+                    from = from.max(-a / b);
+                }
+            }
+            (to - from > 1e-9).then_some(0.5 * (from + to))
+        };
+        let mut through = Through::default();
+        for (edge, &[i, k]) in self.b.edges.iter().enumerate() {
+            for (piece, planes) in self.a.pieces.iter().enumerate() {
+                if let Some(mid) = inside(placed[i], placed[k], planes, self.a.piece_boxes[piece]) {
+                    let (w0, w1) = (self.b.vertices[i], self.b.vertices[k]);
+                    through.moving.push(EdgePoint {
+                        edge,
+                        point: w0 + mid * (w1 - w0),
+                        piece,
+                    });
+                }
+            }
+        }
+        for (edge, &[i, k]) in self.a.edges.iter().enumerate() {
+            for (piece, planes) in self.b.pieces.iter().enumerate() {
+                if let Some(mid) = inside(back[i], back[k], planes, self.b.piece_boxes[piece]) {
+                    let (a0, a1) = (self.a.vertices[i], self.a.vertices[k]);
+                    through.fixed.push(EdgePoint {
+                        edge,
+                        point: a0 + mid * (a1 - a0),
+                        piece,
+                    });
+                }
+            }
+        }
+        through
     }
 
     /// Narrows `t` by the face–vertex pairs a witness keeps apart: a vertex that lies
@@ -777,6 +869,60 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A box as OFF text.
+    fn bar(lo: [f64; 3], hi: [f64; 3]) -> Part {
+        let mut off = String::from("OFF\n8 6 0\n");
+        for c in 0..8 {
+            let pick = |k: usize| if c >> k & 1 == 0 { lo[k] } else { hi[k] };
+            off += &format!("{} {} {}\n", pick(0), pick(1), pick(2));
+        }
+        off += "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
+        crate::examples::builtin("bar.off", &off)
+    }
+
+    #[test]
+    fn bars_crossing_with_no_vertex_inside_the_other_are_excluded() {
+        // Two bars crossed like a plus sign, 2 deep into each other: no vertex of
+        // either lies inside the other, but their edges pass through each other.
+        let fixed = bar([-50.0, -5.0, 0.0], [50.0, 5.0, 10.0]);
+        let r = 0.01;
+        // Sliding along the moving bar's own length keeps them crossed.
+        let slide = Bounds::try_new([-1.0, -20.0, -0.5, -r, -r, -r], [1.0, 20.0, 0.5, r, r, r]).unwrap();
+        for (z, crossed) in [(8.0, true), (11.0, false)] {
+            let moving = bar([-5.0, -50.0, z], [5.0, 50.0, z + 10.0]);
+            let prover = Prover::new(&fixed, &moving, &DAffine3::IDENTITY, 150.0);
+            let links = prover.links(&[]).unwrap();
+            assert_eq!(
+                prover.narrow(&links, &slide).is_none(),
+                crossed,
+                "moving bar at z = {z}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_corner_held_on_the_floor_by_a_bound_is_excluded_near_the_flush_pose() {
+        // The paper's box stands flush on the L-block's floor (face 3, z = 50) and
+        // against its wall; z ≥ 0 forbids lowering it. Its corner v0 alone on the floor
+        // needs v2 lifted (rx > 0) and so v4, at the wall, below the floor: no single
+        // condition shows it, the linearised conditions together do.
+        use crate::contact::{ContactKind, PrincipalContact};
+        use crate::model::{FaceId, VertexId};
+        let (fixed, moving) = crate::examples::l_block_and_box();
+        let problem = super::super::Problem::new(&fixed, &moving, crate::examples::paper_bounds(), DAffine3::IDENTITY);
+        let corner = [PrincipalContact {
+            fixed: ElementId::Face(FaceId(3)),
+            moving: ElementId::Vertex(VertexId(0)),
+            kind: ContactKind::FaceVertex,
+        }];
+        let r = 1e-4;
+        let near = Bounds::try_new([-1.0, -1.0, 0.0, -r, -r, -r], [1.0, 1.0, 0.05, r, r, r]).unwrap();
+        assert!(problem.exclusion(&corner, &near).is_some());
+        // Allowed below the flush height, the box tilts onto v0: not excluded.
+        let lower = Bounds::try_new([-1.0, -1.0, -0.05, -r, -r, -r], [1.0, 1.0, 0.05, r, r, r]).unwrap();
+        assert_eq!(problem.exclusion(&corner, &lower), None);
     }
 
     /// Soundness: every clean state the optimiser reaches on its own (no pruning in the

@@ -1,0 +1,438 @@
+//! The prover's second-order test: in a small box of rotations every condition of a
+//! state is linear in the translation and the turn away from the box's centre, up to a
+//! remainder that shrinks with the square of the box. Linear programming then sees
+//! what propagation one condition at a time cannot: conditions that each hold
+//! somewhere in the box but nowhere together (a vertex held on a face by a bound
+//! while two others must keep their distance, say), which is how the states that hold
+//! only in the limit of a larger one show up.
+//!
+//! With `x = (t, δ)`, `δ` the angles minus the box's central angles, a point `w` of
+//! the moving part is at `R w + t = R_c w + Σ δ_k J_k w + t + e` with
+//! `|e| ≤ ½ (Σ |δ_k|)² |w|`: every second derivative of `Rz Ry Rx` applied to `w` is
+//! a product of rotations and at most two unit generators, of norm at most `|w|`.
+
+use glam::{DMat3, DVec3};
+
+use super::{Apart, IVec, Link, Prover, over_face};
+use crate::feasibility::interval::Interval;
+use crate::feasibility::lp::{self, Row, VARS};
+use crate::pose::Bounds;
+
+/// Above this sum of the rotation box's half-widths the remainder is too coarse to
+/// prove anything the interval tests do not.
+const MAX_TURN: f64 = 0.01;
+
+/// A scalar that is affine in `x` up to a remainder: `base + coef · x ± err`.
+#[derive(Clone, Copy, Debug)]
+struct Affine {
+    base: f64,
+    coef: [f64; VARS],
+    err: f64,
+}
+
+impl Affine {
+    /// Its range over the box.
+    fn range(&self, lo: &[f64; VARS], hi: &[f64; VARS]) -> Interval {
+        let (mut a, mut b) = (self.base - self.err, self.base + self.err);
+        for k in 0..VARS {
+            let (p, q) = (self.coef[k] * lo[k], self.coef[k] * hi[k]);
+            a += p.min(q);
+            b += p.max(q);
+        }
+        Interval::new(a, b)
+    }
+
+    /// The row `lo ≤ self ≤ hi`, the remainder and `slack` moved to the bounds.
+    fn row(&self, lo: f64, hi: f64, slack: f64) -> Row {
+        let widen = self.err + slack;
+        Row {
+            a: self.coef,
+            lo: lo - self.base - widen,
+            hi: hi - self.base + widen,
+        }
+    }
+}
+
+/// The rotation at the box's centre and its derivatives there.
+struct Turn {
+    r: DMat3,
+    rx: DMat3,
+    ry: DMat3,
+    rz: DMat3,
+    /// Σ of the half-widths of the angles.
+    s: f64,
+    /// Centre of the translation box and the half-diagonal of it.
+    t_c: DVec3,
+    d: f64,
+}
+
+impl Turn {
+    fn new(lo: &[f64; VARS], hi: &[f64; VARS]) -> Turn {
+        let c: [f64; 3] = std::array::from_fn(|k| 0.5 * (lo[k + 3] + hi[k + 3]));
+        let (rx, ry, rz) = (
+            DMat3::from_rotation_x(c[0]),
+            DMat3::from_rotation_y(c[1]),
+            DMat3::from_rotation_z(c[2]),
+        );
+        let skew = |v: DVec3| DMat3::from_cols(v.cross(DVec3::X), v.cross(DVec3::Y), v.cross(DVec3::Z));
+        let (kx, ky, kz) = (skew(DVec3::X), skew(DVec3::Y), skew(DVec3::Z));
+        let t_lo = DVec3::new(lo[0], lo[1], lo[2]);
+        let t_hi = DVec3::new(hi[0], hi[1], hi[2]);
+        Turn {
+            r: rz * ry * rx,
+            rx: rz * ry * rx * kx,
+            ry: rz * ry * ky * rx,
+            rz: rz * kz * ry * rx,
+            s: (0..3).map(|k| 0.5 * (hi[k + 3] - lo[k + 3])).sum(),
+            t_c: 0.5 * (t_lo + t_hi),
+            d: 0.5 * (t_hi - t_lo).length(),
+        }
+    }
+
+    /// The derivatives of `R v` by the three angles.
+    fn jacobian(&self, v: DVec3) -> [DVec3; 3] {
+        [self.rx * v, self.ry * v, self.rz * v]
+    }
+
+    /// How far `R v` is from its linear part at most.
+    fn second(&self, v: DVec3) -> f64 {
+        0.5 * self.s * self.s * v.length()
+    }
+
+    /// `n · (R w + t)`.
+    fn on_moving_point(&self, n: DVec3, w: DVec3) -> Affine {
+        let j = self.jacobian(w);
+        Affine {
+            base: n.dot(self.r * w),
+            coef: [n.x, n.y, n.z, n.dot(j[0]), n.dot(j[1]), n.dot(j[2])],
+            err: self.second(w) * n.length(),
+        }
+    }
+
+    /// `(R m) · (a − t)`: a point of the fixed part against a direction of the moving
+    /// part (the bilinear term `δ · Δt` in the remainder).
+    fn on_fixed_point(&self, m: DVec3, a: DVec3) -> Affine {
+        let u = self.r * m;
+        let j = self.jacobian(m);
+        let arm = a - self.t_c;
+        Affine {
+            base: u.dot(a),
+            coef: [-u.x, -u.y, -u.z, j[0].dot(arm), j[1].dot(arm), j[2].dot(arm)],
+            err: self.s * m.length() * self.d + self.second(m) * (arm.length() + self.d),
+        }
+    }
+
+    /// `(da × R db) · (a0 − R b0 − t)`: two edges crossing.
+    fn crossing(&self, a0: DVec3, da: DVec3, b0: DVec3, db: DVec3) -> Affine {
+        let (u, uj) = (self.r * db, self.jacobian(db));
+        let (p, pj) = (self.r * b0, self.jacobian(b0));
+        let n = da.cross(u);
+        let g = a0 - p - self.t_c;
+        let rot = |k: usize| da.cross(uj[k]).dot(g) - n.dot(pj[k]);
+        let s = self.s;
+        let du = s + 0.5 * s * s;
+        Affine {
+            base: n.dot(a0 - p),
+            coef: [-n.x, -n.y, -n.z, rot(0), rot(1), rot(2)],
+            err: self.second(b0) + self.second(db) * (g.length() + self.d) + s * self.d + du * du * b0.length(),
+        }
+    }
+}
+
+impl Prover<'_> {
+    /// The second-order test of a box whose rotations span at most [`MAX_TURN`]: the
+    /// box narrowed by propagation over the linearised conditions (rotations too), or
+    /// `None` when linear programming proves no pose in it shows the state.
+    pub(super) fn linearised(&self, links: &super::Links, bounds: &Bounds) -> Option<Bounds> {
+        let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
+        let turn = Turn::new(&lo, &hi);
+        if turn.s > MAX_TURN {
+            return Some(*bounds);
+        }
+        // Angles as offsets from the centre.
+        let centre: [f64; 3] = std::array::from_fn(|k| 0.5 * (lo[k + 3] + hi[k + 3]));
+        for k in 0..3 {
+            lo[k + 3] -= centre[k];
+            hi[k + 3] -= centre[k];
+        }
+        let mut linear = Linearised {
+            prover: self,
+            turn,
+            centre,
+            lo,
+            hi,
+            rows: Vec::new(),
+            either: Vec::new(),
+            edges_added: Vec::new(),
+        };
+        linear.contacts(links);
+        linear.kept_apart(links);
+        linear.kept_out(&self.edges_through(&bounds.center()))?;
+        propagate(&linear.rows, &mut linear.lo, &mut linear.hi)?;
+        let mut budget = CASES;
+        let mut rows = std::mem::take(&mut linear.rows);
+        if linear.refute(&mut rows, &mut budget) {
+            return None;
+        }
+        let (mut lo, mut hi) = (linear.lo, linear.hi);
+        for k in 0..3 {
+            lo[k + 3] += centre[k];
+            hi[k + 3] += centre[k];
+        }
+        Some(Bounds::try_new(lo, hi).unwrap_or(*bounds))
+    }
+}
+
+/// One box's linearised conditions as they are gathered: rows that must all hold,
+/// and sets of rows of which one must.
+struct Linearised<'p, 'a> {
+    prover: &'p Prover<'a>,
+    turn: Turn,
+    /// The box's central angles.
+    centre: [f64; 3],
+    /// The box in `x = (t, δ)`.
+    lo: [f64; VARS],
+    hi: [f64; VARS],
+    rows: Vec<Row>,
+    either: Vec<Vec<Row>>,
+    /// (moving part's edge?, edge, piece) pairs whose edge points are in.
+    edges_added: Vec<(bool, usize, usize)>,
+}
+
+impl Linearised<'_, '_> {
+    /// The rows of the contacts.
+    fn contacts(&mut self, links: &super::Links) {
+        let (turn, s) = (&self.turn, self.prover.slack);
+        for link in &links.links {
+            match *link {
+                Link::MovingPointOnFixedPlane { w, n, d } => self.rows.push(turn.on_moving_point(n, w).row(d, d, s)),
+                Link::FixedPointOnMovingPlane { a, m, e } => self.rows.push(turn.on_fixed_point(m, a).row(e, e, s)),
+                Link::Crossing { a0, da, b0, db } => self.rows.push(turn.crossing(a0, da, b0, db).row(0.0, 0.0, s)),
+                Link::Region { a, b } if b.0 == b.1 => {
+                    for k in 0..3 {
+                        let h = turn.on_moving_point(DVec3::AXES[k], b.0);
+                        self.rows.push(h.row(a.0[k], a.1[k], s));
+                    }
+                }
+                Link::Region { a, b } if a.0 == a.1 => {
+                    for k in 0..3 {
+                        let h = turn.on_fixed_point(DVec3::AXES[k], a.0);
+                        self.rows.push(h.row(b.0[k], b.1[k], s));
+                    }
+                }
+                Link::Region { .. } => {}
+            }
+        }
+    }
+
+    /// Where a point is, coordinate by coordinate, over the box: the moving part's
+    /// point `w` in G's frame, or the fixed part's `a` in the moving part's frame.
+    fn position(&self, moving: bool, p: DVec3) -> IVec {
+        std::array::from_fn(|k| {
+            let axis = DVec3::AXES[k];
+            let h = if moving {
+                self.turn.on_moving_point(axis, p)
+            } else {
+                self.turn.on_fixed_point(axis, p)
+            };
+            h.range(&self.lo, &self.hi)
+        })
+    }
+
+    /// The height of a point over a plane of the other part.
+    fn height(&self, moving: bool, p: DVec3, (n, d): (DVec3, f64)) -> Affine {
+        let mut h = if moving {
+            self.turn.on_moving_point(n, p)
+        } else {
+            self.turn.on_fixed_point(n, p)
+        };
+        h.base -= d;
+        h
+    }
+
+    /// The face–vertex pairs a witness keeps apart: a vertex over a face is at least
+    /// the margin off its plane, on one side or the other.
+    fn kept_apart(&mut self, links: &super::Links) {
+        let (m, s) = (self.prover.margin, self.prover.slack);
+        for pair in &links.apart {
+            let (moving, vertex, face, triangles) = match *pair {
+                Apart::FixedFace { face, vertex } => (
+                    true,
+                    self.prover.b.vertices[vertex],
+                    self.prover.a.planes[face],
+                    &self.prover.a.triangles[face],
+                ),
+                Apart::MovingFace { face, vertex } => (
+                    false,
+                    self.prover.a.vertices[vertex],
+                    self.prover.b.planes[face],
+                    &self.prover.b.triangles[face],
+                ),
+            };
+            let h = self.height(moving, vertex, face);
+            let range = h.range(&self.lo, &self.hi);
+            if range.lo >= m || range.hi <= -m || !over_face(triangles, face.0, &self.position(moving, vertex), s) {
+                continue;
+            }
+            let (above, below) = (h.row(m, f64::INFINITY, s), h.row(f64::NEG_INFINITY, -m, s));
+            if range.lo > -m {
+                self.rows.push(above);
+            } else if range.hi < m {
+                self.rows.push(below);
+            } else {
+                self.either.push(vec![above, below]);
+            }
+        }
+    }
+
+    /// No vertex, and none of the given edge points, strictly inside a convex piece of
+    /// the other part; `None` when one is inside whatever the pose in the box.
+    fn kept_out(&mut self, through: &super::Through) -> Option<()> {
+        let (a, b) = (&self.prover.a, &self.prover.b);
+        for (j, _) in a.pieces.iter().enumerate() {
+            for &w in &b.vertices {
+                self.keep_out(true, w, j)?;
+            }
+        }
+        for (j, _) in b.pieces.iter().enumerate() {
+            for &v in &a.vertices {
+                self.keep_out(false, v, j)?;
+            }
+        }
+        self.edge_points(through)
+    }
+
+    /// [`Linearised::kept_out`] for edge points not yet in.
+    fn edge_points(&mut self, through: &super::Through) -> Option<()> {
+        for (moving, points) in [(true, &through.moving), (false, &through.fixed)] {
+            for p in points {
+                let key = (moving, p.edge, p.piece);
+                if !self.edges_added.contains(&key) {
+                    self.edges_added.push(key);
+                    self.keep_out(moving, p.point, p.piece)?;
+                }
+            }
+        }
+        Some(())
+    }
+
+    /// A point of one part outside at least one plane of a piece of the other: the
+    /// plane's row when only one is left, the set of them when several are, `None`
+    /// when none is.
+    fn keep_out(&mut self, moving: bool, p: DVec3, piece: usize) -> Option<()> {
+        let s = self.prover.slack;
+        let other = if moving { &self.prover.a } else { &self.prover.b };
+        let (blo, bhi) = other.piece_boxes[piece];
+        let at = self.position(moving, p);
+        if !(0..3).all(|k| at[k].hi >= blo[k] - s && at[k].lo <= bhi[k] + s) {
+            return Some(());
+        }
+        let mut left: Vec<Row> = other.pieces[piece]
+            .iter()
+            .map(|&plane| self.height(moving, p, plane))
+            .filter(|h| h.range(&self.lo, &self.hi).hi >= -s)
+            .map(|h| h.row(-s, f64::INFINITY, 0.0))
+            .collect();
+        match left.len() {
+            0 => return None,
+            1 => self.rows.append(&mut left),
+            _ => self.either.push(left),
+        }
+        Some(())
+    }
+
+    /// Whether no point satisfies `rows` and one row of each set, proved by cases: a
+    /// point the programme finds that breaks a set is split into that set's rows,
+    /// each added in turn; a point that breaks none is checked for edges passing
+    /// through pieces, which join as new sets. `false` when a point satisfies
+    /// everything, or when the budget of programmes runs out.
+    fn refute(&mut self, rows: &mut Vec<Row>, budget: &mut usize) -> bool {
+        loop {
+            if *budget == 0 {
+                return false;
+            }
+            *budget -= 1;
+            let x = match lp::solve(rows, &self.lo, &self.hi) {
+                lp::Outcome::Empty => return true,
+                lp::Outcome::Unknown => return false,
+                lp::Outcome::Point(x) => x,
+            };
+            let holds = |row: &Row| {
+                let v: f64 = row.a.iter().zip(&x).map(|(a, b)| a * b).sum();
+                let tol = 1e-9 * (1.0 + v.abs());
+                v >= row.lo - tol && v <= row.hi + tol
+            };
+            if let Some(broken) = self.either.iter().position(|rows| !rows.iter().any(holds)) {
+                for case in self.either[broken].clone() {
+                    rows.push(case);
+                    let refuted = self.refute(rows, budget);
+                    rows.pop();
+                    if !refuted {
+                        return false;
+                    }
+                }
+                return true;
+            }
+            // Every set holds at x: look there for edges through pieces.
+            let pose = crate::pose::Pose::from_array(std::array::from_fn(|k| {
+                if k < 3 { x[k] } else { x[k] + self.centre[k - 3] }
+            }));
+            let (before_rows, before_sets) = (self.rows.len(), self.either.len());
+            if self.edge_points(&self.prover.edges_through(&pose)).is_none() {
+                return true;
+            }
+            // Rows that hold everywhere in the box, as sets of one (`rows` only grows
+            // and shrinks by the cases of this search).
+            let new_rows: Vec<Vec<Row>> = self.rows.drain(before_rows..).map(|row| vec![row]).collect();
+            if new_rows.is_empty() && self.either.len() == before_sets {
+                return false;
+            }
+            self.either.extend(new_rows);
+        }
+    }
+}
+
+/// Linear programmes one box may spend on the cases of its either-or conditions.
+const CASES: usize = 24;
+
+/// Narrows the box by each row in turn (a few sweeps); `None` when a variable's range
+/// empties.
+fn propagate(rows: &[Row], lo: &mut [f64; VARS], hi: &mut [f64; VARS]) -> Option<()> {
+    for _ in 0..3 {
+        for row in rows {
+            for k in 0..VARS {
+                let a = row.a[k];
+                if a.abs() < 1e-9 {
+                    continue;
+                }
+                // a x_k ∈ [row.lo, row.hi] − Σ_{j≠k} a_j x_j
+                let (mut rest_lo, mut rest_hi) = (0.0, 0.0);
+                for j in (0..VARS).filter(|&j| j != k) {
+                    let (p, q) = (row.a[j] * lo[j], row.a[j] * hi[j]);
+                    rest_lo += p.min(q);
+                    rest_hi += p.max(q);
+                }
+                let (num_lo, num_hi) = (row.lo - rest_hi, row.hi - rest_lo);
+                let (mut new_lo, mut new_hi) = if a > 0.0 {
+                    (num_lo / a, num_hi / a)
+                } else {
+                    (num_hi / a, num_lo / a)
+                };
+                // Keep the round-off of the division on the safe side.
+                let pad = 1e-12 * (new_lo.abs().max(new_hi.abs()).min(1e300)) + 1e-15;
+                new_lo -= pad;
+                new_hi += pad;
+                if new_lo > lo[k] {
+                    lo[k] = new_lo;
+                }
+                if new_hi < hi[k] {
+                    hi[k] = new_hi;
+                }
+                if lo[k] > hi[k] {
+                    return None;
+                }
+            }
+        }
+    }
+    Some(())
+}
