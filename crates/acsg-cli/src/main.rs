@@ -29,10 +29,12 @@ enum Command {
     /// Show a part's B-rep (faces, edges, vertices, convexity, convex pieces); with a
     /// second part, card(PPC) of the pair (first fixed, second moving).
     Inspect {
-        /// The fixed part (OFF, OBJ, STL, PLY, or STEP/IGES with planar faces, read in mm).
+        /// The fixed part (OFF, OBJ, STL, PLY, or STEP/IGES with planar faces).
         fixed: PathBuf,
         /// The moving part.
         moving: Option<PathBuf>,
+        #[command(flatten)]
+        units: UnitsFlag,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -45,15 +47,21 @@ enum Command {
         /// The moving part B.
         moving: PathBuf,
         /// The pose X = x,y,z,rx,ry,rz: p_A = G (R p_B + t), R = Rz(rz) Ry(ry) Rx(rx);
-        /// angles in radians unless --degrees.
+        /// angles in degrees (within ±180) unless --radians.
         #[arg(long, allow_hyphen_values = true)]
         pose: String,
         /// The assembled pose G of B in A's frame, in the same form (default: identity).
         #[arg(long, allow_hyphen_values = true)]
         assembled: Option<String>,
-        /// Read the angles of --pose and --assembled in degrees.
-        #[arg(long)]
+        /// Read the angles of --pose and --assembled in radians (within ±π), as the
+        /// graph's JSON writes witnesses.
+        #[arg(long, conflicts_with = "degrees")]
+        radians: bool,
+        /// Angles in degrees: the default, accepted for old scripts.
+        #[arg(long, hide = true)]
         degrees: bool,
+        #[command(flatten)]
+        units: UnitsFlag,
         /// Contact tolerance relative to L, the larger bounding-box diagonal.
         #[arg(long, default_value_t = acsg::tolerance::CONTACT_REL, allow_hyphen_values = true)]
         tol: f64,
@@ -76,14 +84,20 @@ enum Command {
         #[arg(long, allow_hyphen_values = true)]
         assembled: Option<String>,
         #[command(flatten)]
+        units: UnitsFlag,
+        #[command(flatten)]
         run: RunFlags,
     },
-    /// Generate the graph described by a task file (TOML: `fixed`, `moving`, a
-    /// `[bounds]` table with x, y, z, rx, ry, rz as [min, max] in model units and
-    /// degrees, an optional `[options]` table with degenerate, threads, assembled).
+    /// Generate the graph described by a task file (TOML: `fixed`, `moving`, an
+    /// optional `units` (mm, cm, m, in), a `[bounds]` table with x, y, z, rx, ry, rz as
+    /// [min, max] in those units and degrees, an optional `[options]` table with
+    /// degenerate, threads, effort, assembled).
     Run {
         /// The task file.
         task: PathBuf,
+        /// The length unit, overriding the task file's `units` key.
+        #[arg(long, value_name = "UNIT")]
+        units: Option<acsg::units::LengthUnit>,
         #[command(flatten)]
         run: RunFlags,
     },
@@ -123,6 +137,16 @@ enum ExportFormat {
     Dot,
     /// GraphML (Gephi, yEd, `networkx.read_graphml`).
     Graphml,
+}
+
+/// The length unit of a run.
+#[derive(clap::Args)]
+struct UnitsFlag {
+    /// The length unit of the run: mm, cm, m or in. A mesh's numbers are taken to be in
+    /// it (a mesh has no unit); a STEP or IGES part is converted to it (to mm when this
+    /// is not given). Bounds and every length printed are in it.
+    #[arg(long, value_name = "UNIT")]
+    units: Option<acsg::units::LengthUnit>,
 }
 
 /// Options shared by the commands that generate a graph.
@@ -203,24 +227,35 @@ fn is_broken_pipe(err: &anyhow::Error) -> bool {
 
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Inspect { fixed, moving, json } => {
-            let fixed = Part::from_path(&fixed)?;
-            let moving = moving.map(|m| Part::from_path(&m)).transpose()?;
-            print_inspection(&Inspection::of(&fixed, moving.as_ref()), json)
+        Command::Inspect {
+            fixed,
+            moving,
+            units,
+            json,
+        } => {
+            let unit = units.units;
+            let (fixed, fixed_format) = Part::from_path_in(&fixed, unit)?;
+            let moving = moving.map(|m| Part::from_path_in(&m, unit)).transpose()?;
+            let formats = [Some(fixed_format), moving.as_ref().map(|m| m.1)];
+            let mut report = Inspection::of(&fixed, moving.as_ref().map(|m| &m.0));
+            report.units = units_label(unit, &formats);
+            print_inspection(&report, json)
         }
         Command::Contacts {
             fixed,
             moving,
             pose,
             assembled,
-            degrees,
+            radians,
+            degrees: _,
+            units,
             tol,
             json,
         } => {
             let usage = |what: &str, e: &dyn std::fmt::Display| UsageError(format!("invalid {what}: {e}"));
-            let pose = Pose::parse(&pose, degrees).map_err(|e| usage("--pose", &e))?;
+            let pose = Pose::parse_checked(&pose, !radians).map_err(|e| usage("--pose", &e))?;
             let assembled = match assembled {
-                Some(text) => Pose::parse(&text, degrees).map_err(|e| usage("--assembled", &e))?,
+                Some(text) => Pose::parse_checked(&text, !radians).map_err(|e| usage("--assembled", &e))?,
                 None => Pose::IDENTITY,
             };
             if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
@@ -229,49 +264,69 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 ))
                 .into());
             }
-            let fixed = Part::from_path(&fixed)?;
-            let moving = Part::from_path(&moving)?;
+            let unit = units.units;
+            let (fixed, fixed_format) = Part::from_path_in(&fixed, unit)?;
+            let (moving, moving_format) = Part::from_path_in(&moving, unit)?;
+            let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let g = assembled.to_affine(&DAffine3::IDENTITY);
             let placement = pose.to_affine(&g);
             let report = ContactScene::new(&fixed, &moving).evaluate(&placement, tol);
-            print_contacts(&fixed, &moving, &pose, &g, &report, tol, json)
+            let shown = Shown { tol, json, length };
+            print_contacts(&fixed, &moving, &pose, &g, &report, &shown)
         }
         Command::Generate {
             fixed,
             moving,
             bounds,
             assembled,
+            units,
             run,
         } => {
             let bounds = acsg::task::bounds_from_spec(&bounds).map_err(|e| UsageError(e.to_string()))?;
             let mut options = Options::default();
             if let Some(text) = assembled {
-                let g = Pose::parse(&text, true).map_err(|e| UsageError(format!("invalid --assembled: {e}")))?;
+                let g =
+                    Pose::parse_checked(&text, true).map_err(|e| UsageError(format!("invalid --assembled: {e}")))?;
                 options.assembled = g.to_affine(&DAffine3::IDENTITY);
             }
             let names = [fixed.display().to_string(), moving.display().to_string()];
-            let parts = (Part::from_path(&fixed)?, Part::from_path(&moving)?);
-            generate_and_write(parts, names, bounds, options, run, None)
+            let unit = units.units;
+            let (fixed, fixed_format) = Part::from_path_in(&fixed, unit)?;
+            let (moving, moving_format) = Part::from_path_in(&moving, unit)?;
+            let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
+            let job = Job {
+                names,
+                bounds,
+                options,
+                length,
+            };
+            generate_and_write((fixed, moving), job, run, None)
         }
-        Command::Run { task, run } => {
+        Command::Run { task, units, run } => {
             let job = Task::from_path(&task)?;
-            let parts = (Part::from_path(&job.fixed)?, Part::from_path(&job.moving)?);
+            let unit = units.or(job.units);
+            let (fixed, fixed_format) = Part::from_path_in(&job.fixed, unit)?;
+            let (moving, moving_format) = Part::from_path_in(&job.moving, unit)?;
+            let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let default_output = task.with_extension("graph.json");
-            generate_and_write(
-                parts,
-                [job.fixed_given, job.moving_given],
-                job.bounds,
-                job.options,
-                run,
-                Some(default_output),
-            )
+            let run_job = Job {
+                names: [job.fixed_given, job.moving_given],
+                bounds: job.bounds,
+                options: job.options,
+                length,
+            };
+            generate_and_write((fixed, moving), run_job, run, Some(default_output))
         }
         Command::Demo { run } => {
             let parts = acsg::examples::l_block_and_box();
-            let names = ["builtin:l_block.off".to_string(), "builtin:box.off".to_string()];
-            let bounds = acsg::examples::paper_bounds();
+            let job = Job {
+                names: ["builtin:l_block.off".to_string(), "builtin:box.off".to_string()],
+                bounds: acsg::examples::paper_bounds(),
+                options: Options::default(),
+                length: acsg::units::LengthUnit::Mm.symbol().to_string(),
+            };
             let output = Some(PathBuf::from("acsg-demo.graph.json"));
-            generate_and_write(parts, names, bounds, Options::default(), run, output)
+            generate_and_write(parts, job, run, output)
         }
         Command::Report { graph, output } => {
             let file = GraphFile::from_path(&graph)?;
@@ -298,16 +353,40 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// The label of a run's lengths: the unit given, else `mm` when every part is a CAD
+/// file (read in millimetres), else "model units".
+fn units_label(unit: Option<acsg::units::LengthUnit>, formats: &[Option<acsg::io::Format>]) -> String {
+    match unit {
+        Some(unit) => unit.symbol().to_string(),
+        None if formats.iter().flatten().all(|f| f.is_cad()) => acsg::units::LengthUnit::Mm.symbol().to_string(),
+        None => acsg::units::UNSPECIFIED.to_string(),
+    }
+}
+
+/// What a run is about, apart from its parts and flags.
+struct Job {
+    /// The parts' paths as the user gave them.
+    names: [String; 2],
+    bounds: Bounds,
+    options: Options,
+    /// The label of lengths (`mm`, ..., or "model units").
+    length: String,
+}
+
 /// Generates a graph, prints its summary and writes its JSON (to `flags.output`, else
 /// `default_output`, else stdout).
 fn generate_and_write(
     (fixed, moving): (Part, Part),
-    names: [String; 2],
-    bounds: Bounds,
-    mut options: Options,
+    job: Job,
     flags: RunFlags,
     default_output: Option<PathBuf>,
 ) -> anyhow::Result<()> {
+    let Job {
+        names,
+        bounds,
+        mut options,
+        length,
+    } = job;
     options.degenerate |= flags.degenerate;
     if let Some(threads) = flags.threads {
         options.threads = threads;
@@ -339,13 +418,14 @@ fn generate_and_write(
         graph.stats.stage1_seconds = 0.0;
         graph.stats.stage2_seconds = 0.0;
     }
-    let document = Document::new(&graph, &fixed, &moving, &bounds, &options, [&names[0], &names[1]]);
+    let mut document = Document::new(&graph, &fixed, &moving, &bounds, &options, [&names[0], &names[1]]);
+    document.units.length.clone_from(&length);
     let json = document.to_json();
     let output = flags.output.or(default_output);
     // Results first, messages after: a closed stdout must not cost a result file.
     let mut messages = String::new();
     if !flags.quiet {
-        messages.push_str(&summary(&graph, &names, &bounds));
+        messages.push_str(&summary(&graph, &names, &bounds, &length));
     }
     match &output {
         Some(path) => {
@@ -372,11 +452,15 @@ fn generate_and_write(
 }
 
 /// The run summary: parts, bounds, stages, and states by number of contacts and DOF.
-fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
+fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds, length: &str) -> String {
     use std::fmt::Write as _;
     let s = &graph.stats;
     let mut out = String::new();
     let _ = writeln!(out, "fixed  {}\nmoving {}", names[0], names[1]);
+    let _ = writeln!(
+        out,
+        "units  lengths in {length}, angles in degrees (radians in the JSON)"
+    );
     let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
     let ranges: Vec<String> = ["x", "y", "z", "rx", "ry", "rz"]
         .iter()
@@ -453,6 +537,7 @@ fn print_inspection(report: &Inspection, json: bool) -> anyhow::Result<()> {
         writeln!(out)?;
         return Ok(());
     }
+    writeln!(out, "units  {} (lengths, volumes in cubic {0})", report.units)?;
     for (i, p) in report.parts.iter().enumerate() {
         let role = match (i, report.parts.len()) {
             (_, 1) => "",
@@ -500,6 +585,7 @@ fn print_inspection(report: &Inspection, json: bool) -> anyhow::Result<()> {
 #[derive(serde::Serialize)]
 struct ContactsDocument<'a> {
     convention: &'static str,
+    units: acsg::graph::document::Units,
     pose: [f64; 6],
     matrix: [[f64; 4]; 4],
     tolerance: f64,
@@ -515,15 +601,26 @@ struct PartsDocument<'a> {
     moving: &'a PartElements,
 }
 
+/// How `acsg contacts` prints.
+struct Shown {
+    /// The relative contact tolerance used.
+    tol: f64,
+    /// JSON instead of text.
+    json: bool,
+    /// The label of lengths.
+    length: String,
+}
+
 fn print_contacts(
     fixed: &Part,
     moving: &Part,
     pose: &Pose,
     assembled: &DAffine3,
     report: &ContactReport,
-    tol: f64,
-    json: bool,
+    shown: &Shown,
 ) -> anyhow::Result<()> {
+    let Shown { tol, json, length } = shown;
+    let (tol, json) = (*tol, *json);
     let records: Vec<ContactRecord> = report
         .contacts
         .iter()
@@ -533,6 +630,10 @@ fn print_contacts(
     if json {
         let doc = ContactsDocument {
             convention: acsg::pose::CONVENTION,
+            units: acsg::graph::document::Units {
+                length: length.clone(),
+                angle: "radians".into(),
+            },
             pose: pose.to_array(),
             matrix: pose.matrix(assembled),
             tolerance: tol,
@@ -550,7 +651,14 @@ fn print_contacts(
     }
     let placement = pose.to_affine(assembled);
     let [x, y, z, rx, ry, rz] = pose.to_array();
-    writeln!(out, "pose         x={x} y={y} z={z} rx={rx} ry={ry} rz={rz} (radians)")?;
+    let deg = |a: f64| a.to_degrees();
+    writeln!(
+        out,
+        "pose         x={x} y={y} z={z} ({length}) rx={}° ry={}° rz={}°",
+        deg(rx),
+        deg(ry),
+        deg(rz)
+    )?;
     writeln!(
         out,
         "contacts     {} (coordinates in the fixed part's frame)",

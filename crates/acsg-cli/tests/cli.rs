@@ -571,3 +571,189 @@ fn generate_takes_cad_parts_and_matches_the_mesh_run() {
     assert!(!mesh.as_array().unwrap().is_empty());
     assert_eq!(run("cad/block_with_hole.step", "cad/peg.igs"), mesh);
 }
+
+/// `contacts --pose` reads degrees, like every other flag; `--radians` reads radians.
+/// A quarter turn about z puts the rotation's first row at (0, -1, 0), whichever way
+/// it is written, and the JSON keeps radians.
+#[test]
+fn contacts_pose_angles_are_degrees_unless_radians() {
+    let run = |args: &[&str]| {
+        let out = acsg()
+            .args(["contacts", "--json"])
+            .args(args)
+            .arg(fixture("cube.off"))
+            .arg(fixture("cube.off"))
+            .args(["--assembled", "0,0,100,0,0,0"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let degrees = run(&["--pose", "0,0,0,0,0,90"]);
+    let radians = run(&[
+        "--radians",
+        "--pose",
+        &format!("0,0,0,0,0,{}", std::f64::consts::FRAC_PI_2),
+    ]);
+    for v in [&degrees, &radians] {
+        assert!((v["pose"][5].as_f64().unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        let row: Vec<f64> = (0..3).map(|j| v["matrix"][0][j].as_f64().unwrap()).collect();
+        assert!(
+            row[0].abs() < 1e-12 && (row[1] + 1.0).abs() < 1e-12 && row[2].abs() < 1e-12,
+            "{row:?}"
+        );
+        assert_eq!(v["units"]["angle"], "radians");
+        assert!(v["convention"].as_str().unwrap().contains("radians"));
+    }
+    // The text output says degrees.
+    acsg()
+        .args(["contacts", "--pose", "0,0,50,0,0,90"])
+        .arg(fixture("cube.off"))
+        .arg(fixture("cube.off"))
+        .assert()
+        .success()
+        .stdout(contains("rz=90°"));
+}
+
+#[test]
+fn angles_outside_a_half_turn_are_refused_everywhere() {
+    let contacts = |args: &[&str]| {
+        acsg()
+            .arg("contacts")
+            .arg(fixture("cube.off"))
+            .arg(fixture("cube.off"))
+            .args(args)
+            .assert()
+    };
+    contacts(&["--pose", "0,0,0,0,0,200"]).code(2).stderr(
+        contains("--pose")
+            .and(contains("200°, outside ±180°"))
+            .and(contains("-160°")),
+    );
+    // 18 was read as 18 rad before the switch to degrees: refused, not wrapped.
+    contacts(&["--radians", "--pose", "0,0,0,18,0,0"])
+        .code(2)
+        .stderr(contains("18 rad").and(contains("outside ±π")));
+    contacts(&["--pose", "0,0,0,0,0,0", "--assembled", "0,0,0,-181,0,0"])
+        .code(2)
+        .stderr(contains("--assembled").and(contains("outside ±180°")));
+    contacts(&["--pose", "0,0,0,0,0,180"]).success();
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "z=0:1,rz=-190:10"])
+        .assert()
+        .code(2)
+        .stderr(contains("min bound on rz is -190°, outside ±180°"));
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text, fragment) in [
+        ("bounds.toml", "rz = [0, 360]", "max bound on rz is 360°"),
+        (
+            "assembled.toml",
+            "rz = [0, 0]\n[options]\nassembled = [0, 0, 0, 0, 270, 0]",
+            "270°",
+        ),
+    ] {
+        let task = dir.path().join(name);
+        std::fs::write(
+            &task,
+            format!("fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [0, 0]\ny = [0, 0]\nz = [0, 0]\nrx = [0, 0]\nry = [0, 0]\n{text}\n"),
+        )
+        .unwrap();
+        acsg()
+            .arg("run")
+            .arg(&task)
+            .assert()
+            .code(1)
+            .stderr(contains(name).and(contains(fragment)).and(contains("outside ±180°")));
+    }
+}
+
+/// `--units` labels a mesh (its numbers unchanged) and converts a CAD part (which
+/// states its unit): the STEP peg in inches is the millimetre peg divided by 25.4.
+#[test]
+fn units_label_meshes_and_convert_cad_parts() {
+    let inspect = |path: &str, units: Option<&str>| {
+        let mut cmd = acsg();
+        cmd.args(["inspect", "--json"]).arg(fixture(path));
+        if let Some(u) = units {
+            cmd.args(["--units", u]);
+        }
+        let out = cmd.output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let num = |v: &serde_json::Value| v.as_f64().unwrap();
+    let step_mm = inspect("cad/peg.step", None);
+    assert_eq!(step_mm["units"], "mm");
+    let step_in = inspect("cad/peg.step", Some("in"));
+    assert_eq!(step_in["units"], "in");
+    for (k, corner) in [0, 1].iter().flat_map(|c| (0..3).map(move |k| (k, *c))) {
+        let (mm, inch) = (
+            num(&step_mm["parts"][0]["bounds"][corner][k]),
+            num(&step_in["parts"][0]["bounds"][corner][k]),
+        );
+        assert!(
+            (mm / 25.4 - inch).abs() <= 1e-12 * mm.abs().max(1.0),
+            "{mm} mm vs {inch} in"
+        );
+    }
+    let volume_ratio = num(&step_mm["parts"][0]["volume"]) / num(&step_in["parts"][0]["volume"]);
+    assert!((volume_ratio - 25.4f64.powi(3)).abs() < 1e-6 * volume_ratio);
+    // A mesh: the same numbers, labelled.
+    let mesh = inspect("peg.off", None);
+    assert_eq!(mesh["units"], "model units");
+    let mesh_cm = inspect("peg.off", Some("cm"));
+    assert_eq!(mesh_cm["units"], "cm");
+    assert_eq!(mesh["parts"], mesh_cm["parts"]);
+    acsg()
+        .arg("inspect")
+        .arg(fixture("peg.off"))
+        .args(["--units", "cm"])
+        .assert()
+        .success()
+        .stdout(contains("units  cm"));
+    acsg()
+        .arg("inspect")
+        .arg(fixture("peg.off"))
+        .args(["--units", "ft"])
+        .assert()
+        .code(2)
+        .stderr(contains("unknown length unit 'ft' (give mm, cm, m or in)"));
+    // A task file's units reach the summary, the JSON and the report.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(fixture("cube.off"), dir.path().join("cube.off")).unwrap();
+    std::fs::copy(fixture("slab.off"), dir.path().join("slab.off")).unwrap();
+    let task = dir.path().join("cube.toml");
+    std::fs::write(
+        &task,
+        "fixed = \"slab.off\"\nmoving = \"cube.off\"\nunits = \"cm\"\n[bounds]\nx = [0, 0]\ny = [0, 0]\nz = [0, 1]\n\
+         rx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n",
+    )
+    .unwrap();
+    let html = dir.path().join("cube.html");
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .arg("--html")
+        .arg(&html)
+        .assert()
+        .success()
+        .stdout(contains("lengths in cm, angles in degrees"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cube.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["units"]["length"], "cm");
+    assert_eq!(v["units"]["angle"], "radians");
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(page.contains(r#""units":{"length":"cm","angle":"radians"}"#));
+    // The flag overrides the task file.
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .args(["--units", "in", "-o"])
+        .arg(dir.path().join("in.json"))
+        .assert()
+        .success()
+        .stdout(contains("lengths in in,"));
+}

@@ -4,8 +4,9 @@
 //! ```toml
 //! fixed = "l_block.off"          # relative to the task file
 //! moving = "box.off"
+//! units = "mm"                   # optional: mm, cm, m or in (see acsg::units)
 //!
-//! [bounds]                       # [min, max]; lengths in model units, angles in degrees
+//! [bounds]                       # [min, max]; lengths in `units`, angles in degrees (±180)
 //! x = [-5, 5]
 //! y = [-5, 5]
 //! z = [0, 240]
@@ -26,6 +27,7 @@ use serde::Deserialize;
 
 use crate::graph::Options;
 use crate::pose::{Bounds, Pose, PoseError};
+use crate::units::LengthUnit;
 
 /// What can go wrong with a task file or a bounds specification.
 #[derive(Debug, thiserror::Error)]
@@ -70,6 +72,8 @@ pub enum TaskError {
 struct TaskFile {
     fixed: String,
     moving: String,
+    #[serde(default)]
+    units: Option<LengthUnit>,
     bounds: BoundsTable,
     #[serde(default)]
     options: OptionsTable,
@@ -113,6 +117,8 @@ pub struct Task {
     pub fixed: PathBuf,
     /// The moving part's path, resolved likewise.
     pub moving: PathBuf,
+    /// The length unit of the run, if the task file gives one (`units = "mm"`).
+    pub units: Option<LengthUnit>,
     /// The bounds (radians inside).
     pub bounds: Bounds,
     /// The options.
@@ -174,7 +180,7 @@ impl Task {
         if let Some(g) = file.options.assembled {
             let place = format!("{}: [options] assembled", path.display());
             let text = g.map(|v| v.to_string()).join(",");
-            let pose = Pose::parse(&text, true).map_err(|source| TaskError::Bounds {
+            let pose = Pose::parse_checked(&text, true).map_err(|source| TaskError::Bounds {
                 place: place.clone(),
                 source,
             })?;
@@ -185,6 +191,7 @@ impl Task {
             moving: folder.join(&file.moving),
             fixed_given: file.fixed,
             moving_given: file.moving,
+            units: file.units,
             bounds,
             options,
         })

@@ -49,11 +49,12 @@
   G.edges.forEach(function (e) { neighbours[e[0]].push(e[1]); neighbours[e[1]].push(e[0]); });
 
   // ---------- header, summary, footer ----------
+  var lengthUnit = (G.units && G.units.length) || 'model units';
   document.getElementById('subtitle').textContent =
     G.fixed.path + ' (fixed) / ' + G.moving.path + ' (moving): ' + N + ' states, ' + G.edges.length + ' edges';
   document.getElementById('footer').textContent =
     'Made by ' + D.generator + ' (format ' + G.format + '). Pose convention: ' + G.convention +
-    '. Lengths in model units, angles in degrees on this page (radians in the JSON).';
+    '. Lengths in ' + lengthUnit + ', angles in degrees on this page (radians in the JSON).';
 
   function table(rows, header) {
     var t = el('table');
@@ -75,7 +76,7 @@
     var names = ['x', 'y', 'z', 'rx', 'ry', 'rz'];
     var bounds = names.map(function (n, k) {
       var lo = G.bounds.min[k], hi = G.bounds.max[k];
-      return k < 3 ? [n, fmt(lo, 3) + ' … ' + fmt(hi, 3)] : [n, fmt(deg(lo), 2) + '° … ' + fmt(deg(hi), 2) + '°'];
+      return k < 3 ? [n, fmt(lo, 3) + ' … ' + fmt(hi, 3) + ' ' + lengthUnit] : [n, fmt(deg(lo), 2) + '° … ' + fmt(deg(hi), 2) + '°'];
     });
     var stage1 = [
       ['card(PPC)', s.ppc], ['ruled out without optimising', s.ppc_unreachable], ['feasible PPCs', s.feasible_ppc],

@@ -222,7 +222,7 @@ pub fn contacts_text(state: &StateRecord) -> String {
     state.contacts.iter().map(contact_text).collect::<Vec<_>>().join("; ")
 }
 
-/// A state's witness pose as `x,y,z,rx,ry,rz` (radians), the form `acsg contacts
+/// A state's witness pose as `x,y,z,rx,ry,rz` (radians), the form `acsg contacts --radians
 /// --pose` reads; `None` without a witness.
 #[must_use]
 pub fn witness_text(state: &StateRecord) -> Option<String> {

@@ -57,9 +57,10 @@ pub struct UndecidedRecord {
 /// Units used in the file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Units {
-    /// Always "model units" (those of the input files).
+    /// The unit of lengths: `mm`, `cm`, `m`, `in` (see [`crate::units`]), or "model
+    /// units" when none was given.
     pub length: String,
-    /// Always "radians".
+    /// Always "radians" in files (degrees are for the command line and the report).
     pub angle: String,
 }
 

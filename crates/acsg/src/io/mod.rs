@@ -183,6 +183,15 @@ impl Format {
     }
 }
 
+impl Format {
+    /// `true` for the CAD formats (STEP, IGES), which state their length unit; their
+    /// coordinates are read in millimetres.
+    #[must_use]
+    pub fn is_cad(self) -> bool {
+        matches!(self, Format::Step | Format::Iges)
+    }
+}
+
 impl fmt::Display for Format {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
@@ -251,6 +260,14 @@ pub enum ReadError {
 /// # Errors
 /// [`ReadError`] naming the file, the place and the fix.
 pub fn read_path(path: &Path) -> Result<MeshSoup, ReadError> {
+    read_path_as(path).map(|(soup, _)| soup)
+}
+
+/// [`read_path`], also telling the format the file was read as.
+///
+/// # Errors
+/// [`ReadError`] naming the file, the place and the fix.
+pub fn read_path_as(path: &Path) -> Result<(MeshSoup, Format), ReadError> {
     let io_err = |source| ReadError::Io {
         path: path.to_path_buf(),
         source,
@@ -264,7 +281,7 @@ pub fn read_path(path: &Path) -> Result<MeshSoup, ReadError> {
         });
     }
     let bytes = std::fs::read(path).map_err(io_err)?;
-    read_bytes(&bytes, path)
+    read_bytes_as(&bytes, path)
 }
 
 /// Reads a model held in memory; `path` names it in messages and gives the extension.
@@ -272,6 +289,14 @@ pub fn read_path(path: &Path) -> Result<MeshSoup, ReadError> {
 /// # Errors
 /// [`ReadError`] naming the file, the place and the fix.
 pub fn read_bytes(bytes: &[u8], path: &Path) -> Result<MeshSoup, ReadError> {
+    read_bytes_as(bytes, path).map(|(soup, _)| soup)
+}
+
+/// [`read_bytes`], also telling the format the bytes were read as.
+///
+/// # Errors
+/// [`ReadError`] naming the file, the place and the fix.
+pub fn read_bytes_as(bytes: &[u8], path: &Path) -> Result<(MeshSoup, Format), ReadError> {
     if bytes.iter().all(u8::is_ascii_whitespace) {
         return Err(ReadError::Empty {
             path: path.to_path_buf(),
@@ -282,11 +307,12 @@ pub fn read_bytes(bytes: &[u8], path: &Path) -> Result<MeshSoup, ReadError> {
         .ok_or_else(|| ReadError::UnknownFormat {
             path: path.to_path_buf(),
         })?;
-    format.read(bytes).map_err(|detail| ReadError::Parse {
+    let soup = format.read(bytes).map_err(|detail| ReadError::Parse {
         path: path.to_path_buf(),
         format,
         detail,
-    })
+    })?;
+    Ok((soup, format))
 }
 
 /// Checks that a coordinate triple read from `place` is finite.

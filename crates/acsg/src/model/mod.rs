@@ -14,7 +14,8 @@ pub use part::{Aabb, Edge, Face, Loop, Part, Vertex};
 pub use summary::{Inspection, PartSummary, PpcTotals};
 pub use validation::{Defect, DefectKind, ValidationReport};
 
-use crate::io::{MeshSoup, ReadError};
+use crate::io::{Format, MeshSoup, ReadError};
+use crate::units::LengthUnit;
 
 /// Errors of loading a part.
 #[derive(Debug, thiserror::Error)]
@@ -90,6 +91,23 @@ impl Part {
     pub fn from_path(path: &Path) -> Result<Part, ModelError> {
         let soup: MeshSoup = crate::io::read_path(path)?;
         Part::try_new(&soup, &path.display().to_string())
+    }
+
+    /// Reads a part for a run in `unit` (see [`crate::units`]): a CAD file (STEP,
+    /// IGES), which states its unit, is converted to `unit` (millimetres when `None`);
+    /// a mesh's numbers are taken as they are, in `unit`. Also returns the format read.
+    ///
+    /// # Errors
+    /// [`ModelError`] naming the file, the place and the fix.
+    pub fn from_path_in(path: &Path, unit: Option<LengthUnit>) -> Result<(Part, Format), ModelError> {
+        let (mut soup, format) = crate::io::read_path_as(path)?;
+        if let Some(unit) = unit.filter(|u| format.is_cad() && *u != LengthUnit::Mm) {
+            let scale = 1.0 / unit.millimetres();
+            for p in &mut soup.positions {
+                *p *= scale;
+            }
+        }
+        Ok((Part::try_new(&soup, &path.display().to_string())?, format))
     }
 }
 
