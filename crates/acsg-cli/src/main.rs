@@ -164,7 +164,8 @@ struct RunFlags {
     /// elements).
     #[arg(long)]
     degenerate: bool,
-    /// Worker threads (0: one per core). The output does not depend on it.
+    /// Worker threads (0: one per core; at most four per core, or 256). The output does
+    /// not depend on it.
     #[arg(long)]
     threads: Option<usize>,
     /// How hard to search and prove each candidate state before leaving it undecided:
@@ -389,6 +390,7 @@ fn generate_and_write(
     } = job;
     options.degenerate |= flags.degenerate;
     if let Some(threads) = flags.threads {
+        acsg::task::check_threads(threads).map_err(|m| UsageError(format!("invalid --threads: {m}")))?;
         options.threads = threads;
     }
     if let Some(effort) = flags.effort {
@@ -480,23 +482,58 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds, length: &str) ->
          {} feasible, {:.3} s",
         s.ppc, s.ppc_unreachable, s.stage1_searched, s.stage1_optimisations, s.feasible_ppc, s.stage1_seconds
     );
+    // A pair gives one outcome per case of the mapping rules, and each outcome is
+    // counted once: the counts below add up to more than the pairs.
     let _ = writeln!(
         out,
-        "stage 2  {} pairs: {} implied, {} topology, {} degenerate, {} duplicate, {} ruled out without optimising; \
-         {} candidates, {} searched by optimisation ({} local runs, {} below known states), \
-         {} found on the way, {:.3} s",
-        s.stage2_pairs,
-        s.pruned_implied,
-        s.pruned_topology,
-        s.pruned_degenerate,
-        s.pruned_duplicate,
-        s.pruned_unreachable,
-        s.stage2_candidates,
-        s.stage2_searched,
-        s.stage2_optimisations,
-        s.descents,
-        s.found_on_the_way,
-        s.stage2_seconds
+        "stage 2  {} pairs (a known state and a single contact to add); each pair gives one outcome per case \
+         of the mapping rules, so the counts below add up to more than the pairs:",
+        s.stage2_pairs
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} implied (the state already holds the contact, or an outcome is the state itself)",
+        s.pruned_implied
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} pairs with no outcome (ruled out by topological existence)",
+        s.pruned_topology
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} outcomes left out as degenerate (keep them with --degenerate)",
+        s.pruned_degenerate
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} outcomes already known or already proposed",
+        s.pruned_duplicate
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} new candidates, each decided:",
+        s.stage2_candidates
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} ruled out without optimising (sound exclusion tests)",
+        s.pruned_unreachable
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} searched by optimisation ({} local runs; descents included)",
+        s.stage2_searched, s.stage2_optimisations
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} descents (searches one contact below a known state, from its witness)",
+        s.descents
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} states found while searching for another, {} found by descents; {:.3} s",
+        s.found_on_the_way, s.found_by_descent, s.stage2_seconds
     );
     let _ = writeln!(
         out,

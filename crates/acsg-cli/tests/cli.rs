@@ -757,3 +757,360 @@ fn units_label_meshes_and_convert_cad_parts() {
         .success()
         .stdout(contains("lengths in in,"));
 }
+
+/// A small graph written by the binary (slab and cube, translation only).
+fn small_graph(dir: &Path) -> PathBuf {
+    let path = dir.join("small.json");
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "x=-1:1,z=0:5", "-q", "--no-timings", "-o"])
+        .arg(&path)
+        .assert()
+        .success();
+    path
+}
+
+#[cfg(unix)]
+#[test]
+fn atomic_output_follows_links_writes_devices_and_keeps_the_mode() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let graph = small_graph(dir.path());
+    let export = |output: &Path| {
+        acsg()
+            .args(["export", "--format", "dot"])
+            .arg(&graph)
+            .arg("-o")
+            .arg(output)
+            .assert()
+            .success();
+    };
+    // Through a symlink: the target gets the bytes, the link stays a link.
+    let target = dir.path().join("real.dot");
+    std::fs::write(&target, "old").unwrap();
+    let link = dir.path().join("link.dot");
+    std::os::unix::fs::symlink("real.dot", &link).unwrap();
+    export(&link);
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    assert!(std::fs::read_to_string(&target).unwrap().starts_with("graph"));
+    // A file's mode survives its replacement.
+    let private = dir.path().join("private.dot");
+    std::fs::write(&private, "old").unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
+    export(&private);
+    assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600);
+    assert!(std::fs::read_to_string(&private).unwrap().starts_with("graph"));
+    // A device is written, not replaced (the test cannot replace /dev/null as a user,
+    // so write to it and check it is still a character device).
+    export(Path::new("/dev/null"));
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    // A named pipe stays a pipe and receives the bytes.
+    let fifo = dir.path().join("fifo.dot");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|s| s.success()) {
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+        };
+        export(&fifo);
+        assert!(reader.join().unwrap().starts_with("graph"));
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    } else {
+        eprintln!("SKIPPED the named-pipe part: mkfifo is not available");
+    }
+    // Nothing of ours is left in the folder.
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+/// A temporary file left by a run killed between write and rename (its process is
+/// gone) is removed by the next write of the same file; one of a live process stays.
+#[cfg(target_os = "linux")]
+#[test]
+fn stale_temporary_files_are_cleaned_and_named_recognisably() {
+    let dir = tempfile::tempdir().unwrap();
+    let graph = small_graph(dir.path());
+    // A process id that cannot be running: above the kernel's pid_max.
+    let pid_max: u64 = std::fs::read_to_string("/proc/sys/kernel/pid_max")
+        .map_or(4_194_304, |t| t.trim().parse().unwrap_or(4_194_304));
+    let stale = dir.path().join(format!(".out.dot.acsg-partial.{}.tmp", pid_max + 1));
+    std::fs::write(&stale, "half a graph").unwrap();
+    let live = dir
+        .path()
+        .join(format!(".out.dot.acsg-partial.{}.tmp", std::process::id()));
+    std::fs::write(&live, "being written").unwrap();
+    acsg()
+        .args(["export", "--format", "dot"])
+        .arg(&graph)
+        .arg("-o")
+        .arg(dir.path().join("out.dot"))
+        .assert()
+        .success();
+    assert!(!stale.exists(), "the stale temporary file was left");
+    assert!(live.exists(), "a live process's temporary file was removed");
+}
+
+#[test]
+fn threads_beyond_the_cap_are_refused() {
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "z=0:1", "--threads", "100000"])
+        .assert()
+        .code(2)
+        .stderr(contains("--threads").and(contains("100000 threads is more than the limit")));
+    let dir = tempfile::tempdir().unwrap();
+    let task = dir.path().join("t.toml");
+    std::fs::write(
+        &task,
+        "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [0, 0]\ny = [0, 0]\nz = [0, 1]\nrx = [0, 0]\n\
+         ry = [0, 0]\nrz = [0, 0]\n[options]\nthreads = 100000\n",
+    )
+    .unwrap();
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .assert()
+        .code(1)
+        .stderr(contains("t.toml:11:11:").and(contains("more than the limit")));
+}
+
+#[test]
+fn task_arrays_of_the_wrong_length_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let head = "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\n";
+    let ok_bounds = "y = [0, 0]\nz = [0, 1]\nrx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n";
+    for (name, text, fragment) in [
+        (
+            "three.toml",
+            format!("{head}x = [-1, 0, 1]\n{ok_bounds}"),
+            "three.toml:4:5: [bounds] x has 3 values; give two",
+        ),
+        ("one.toml", format!("{head}x = [1]\n{ok_bounds}"), "x has 1 values"),
+        (
+            "seven.toml",
+            format!("{head}x = [0, 0]\n{ok_bounds}[options]\nassembled = [0, 0, 0, 0, 0, 0, 0]\n"),
+            "seven.toml:11:13: [options] assembled has 7 values; give six",
+        ),
+    ] {
+        let task = dir.path().join(name);
+        std::fs::write(&task, text).unwrap();
+        acsg().arg("run").arg(&task).assert().code(1).stderr(contains(fragment));
+    }
+}
+
+/// The input cap holds on the bytes read, not the size the file system reports (0 for
+/// a device or a pipe). `ACSG_MAX_INPUT_BYTES` lowers the cap so that the test reads
+/// little.
+#[cfg(unix)]
+#[test]
+fn the_input_cap_holds_for_devices_and_pipes() {
+    for args in [
+        vec!["inspect", "/dev/zero"],
+        vec!["report", "/dev/zero", "-o", "/dev/null"],
+    ] {
+        acsg()
+            .args(&args)
+            .env("ACSG_MAX_INPUT_BYTES", "100000")
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .code(1)
+            .stderr(contains("/dev/zero").and(contains("limit")));
+    }
+    // A pipe (process substitution gives /dev/fd/N): the same cap.
+    let script = format!(
+        "head -c 200000 /dev/zero | {} inspect /dev/stdin",
+        assert_cmd::cargo::cargo_bin("acsg").display()
+    );
+    let out = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .env("ACSG_MAX_INPUT_BYTES", "100000")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("the input is more than the 100000-byte limit"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn ply_and_iges_errors_are_in_plain_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = dir.path().join("bad.ply");
+    std::fs::write(
+        &ply,
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty flot x\nend_header\n",
+    )
+    .unwrap();
+    let out = acsg().arg("inspect").arg(&ply).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("line 4: the header line `property flot x` cannot be read"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("ParseError") && !stderr.contains("ExpectedSet"),
+        "{stderr}"
+    );
+    // An IGES whose parameter data names another type than its directory entry.
+    let text = std::fs::read_to_string(fixture("cad/peg.igs")).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("186,") && l.ends_with("P0000001"))
+        .unwrap();
+    let bad = text.replace(line, &line.replacen("186,", "120,", 1));
+    let iges = dir.path().join("bad.igs");
+    std::fs::write(&iges, bad).unwrap();
+    let out = acsg().arg("inspect").arg(&iges).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("starts with `120`, not its type 186"), "{stderr}");
+    assert!(!stderr.contains("Some(") && !stderr.contains("Text("), "{stderr}");
+}
+
+#[test]
+fn report_accepts_a_bom_and_validates_what_it_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let graph = small_graph(dir.path());
+    let text = std::fs::read_to_string(&graph).unwrap();
+    let with_bom = dir.path().join("bom.json");
+    std::fs::write(&with_bom, format!("\u{feff}{text}")).unwrap();
+    acsg()
+        .arg("report")
+        .arg(&with_bom)
+        .args(["-o", "/dev/null"])
+        .assert()
+        .success();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let state = v["states"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|s| {
+            s["contacts"]
+                .as_array()
+                .is_some_and(|c| c.iter().any(|c| c["type"] == "f-f"))
+        })
+        .expect("the cube sits on the slab in some state");
+    let contact = v["states"][state]["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|c| c["type"] == "f-f")
+        .unwrap();
+    let mut wrong_kind = v.clone();
+    wrong_kind["states"][state]["contacts"][contact]["moving"] = "v0".into();
+    let mut wrong_dof = v.clone();
+    wrong_dof["states"][state]["dof"] = 200.into();
+    let mut wrong_contact_dof = v.clone();
+    wrong_contact_dof["states"][state]["contacts"][contact]["dof"] = 5.into();
+    let mut duplicate = v.clone();
+    let first = duplicate["edges"][0].clone();
+    let reversed = serde_json::json!([first[1], first[0]]);
+    duplicate["edges"].as_array_mut().unwrap().push(reversed);
+    let mut wrong_units = v.clone();
+    wrong_units["units"]["angle"] = "degrees".into();
+    for (name, doc, fragment) in [
+        (
+            "kind.json",
+            wrong_kind,
+            "names v0 as the moving element, but a f-f contact needs a face",
+        ),
+        ("dof.json", wrong_dof, "has dof 200, but a rigid part has at most 6"),
+        ("cdof.json", wrong_contact_dof, "has dof 5, but a f-f contact leaves 3"),
+        ("dup.json", duplicate, "is listed twice"),
+        ("units.json", wrong_units, "angles \"radians\""),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, serde_json::to_string(&doc).unwrap()).unwrap();
+        acsg()
+            .arg("report")
+            .arg(&path)
+            .args(["-o", "/dev/null"])
+            .assert()
+            .code(1)
+            .stderr(
+                contains(name)
+                    .and(contains("inconsistent graph"))
+                    .and(contains(fragment)),
+            );
+    }
+}
+
+/// Coordinates far from the origin, for the part's size, are refused with advice to
+/// move the part; the same cube near the origin reads.
+#[test]
+fn parts_far_from_the_origin_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = std::fs::read_to_string(fixture("cube.off")).unwrap();
+    let shifted = |offset: f64| {
+        let mut lines: Vec<String> = cube.lines().map(str::to_string).collect();
+        for line in lines.iter_mut().skip(2).take(8) {
+            let v: Vec<f64> = line.split_whitespace().map(|t| t.parse().unwrap()).collect();
+            *line = format!("{} {} {}", v[0] + offset, v[1], v[2]);
+        }
+        lines.join("\n") + "\n"
+    };
+    for offset in [1e12, 1e15] {
+        let path = dir.path().join(format!("far{offset:e}.off"));
+        std::fs::write(&path, shifted(offset)).unwrap();
+        acsg()
+            .arg("inspect")
+            .arg(&path)
+            .assert()
+            .code(1)
+            .stderr(contains("from the origin").and(contains("move the part near the origin")));
+    }
+    // 1000 times its size away (17 mm diagonal, 10 m off): still fine, same volume.
+    let near = dir.path().join("near.off");
+    std::fs::write(&near, shifted(1e4)).unwrap();
+    let out = acsg().args(["inspect", "--json"]).arg(&near).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((v["parts"][0]["volume"].as_f64().unwrap() - 1000.0).abs() < 1e-6);
+}
+
+/// The stage-2 counters are explained: each line says what it counts, and the summary
+/// says that they add up to more than the pairs.
+#[test]
+fn the_stage_two_summary_says_what_each_counter_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180", "-o"])
+        .arg(dir.path().join("g.json"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("g.json")).unwrap()).unwrap();
+    let stat = |k: &str| v["stats"][k].as_u64().unwrap();
+    for (key, words) in [
+        ("stage2_pairs", "pairs (a known state and a single contact to add)"),
+        ("pruned_implied", "implied (the state already holds the contact"),
+        ("pruned_topology", "pairs with no outcome"),
+        ("pruned_duplicate", "outcomes already known or already proposed"),
+        ("stage2_candidates", "new candidates, each decided"),
+    ] {
+        let line = text
+            .lines()
+            .find(|l| l.contains(words))
+            .unwrap_or_else(|| panic!("no line with {words:?} in\n{text}"));
+        assert!(line.contains(&stat(key).to_string()), "{key}: {line}");
+    }
+    assert!(text.contains("add up to more than the pairs"));
+}

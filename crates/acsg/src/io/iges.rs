@@ -427,10 +427,16 @@ impl IgesFile {
         let mut tokens = tokens.into_iter();
         let kind = tokens.next();
         if kind != Some(Token::Text(e.kind.to_string())) {
+            let found = match &kind {
+                Some(Token::Text(t)) if t.trim().is_empty() => "an empty value".to_string(),
+                Some(Token::Text(t)) => format!("`{}`", t.trim()),
+                Some(Token::Hollerith(t)) => format!("the string \"{t}\""),
+                None => "nothing".to_string(),
+            };
             return Err(err(
                 place,
                 format!(
-                    "{what}: its parameter data starts with {kind:?}, not its type {}",
+                    "{what}: its parameter data starts with {found}, not its type {}",
                     e.kind
                 ),
                 "the directory and parameter sections disagree; export the file again",
