@@ -170,7 +170,10 @@ fn graphml_of_the_example_has_every_state_and_edge() {
             format!("{states} {edges} True")
         );
     } else {
-        eprintln!("networkx check skipped: python3 with networkx not available");
+        skipped(
+            "the networkx check of the GraphML export",
+            "python3 with networkx not available (pip install networkx)",
+        );
     }
 }
 
@@ -306,7 +309,10 @@ fn the_report_renders_in_a_real_browser() {
                 "CI is set but no Chromium was found: .ci/run installs Debian's chromium (apt-get install chromium)"
             );
         }
-        eprintln!("skipped: no chromium on PATH (install it with `apt-get install chromium`, or set ACSG_CHROMIUM)");
+        skipped(
+            "the_report_renders_in_a_real_browser",
+            "no chromium on PATH (install it with `apt-get install chromium`, or set ACSG_CHROMIUM)",
+        );
         return;
     };
     let (dir, json) = demo();
@@ -355,4 +361,12 @@ fn the_report_renders_in_a_real_browser() {
     assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
     assert!(png.len() > 20_000, "screenshot of {} bytes: a blank page?", png.len());
     eprintln!("screenshot: {}", shot.display());
+}
+
+/// Says, past the test harness's capture of `eprintln!` (a direct write to stderr is
+/// not captured), that a check was skipped: `cargo test` then shows the line even
+/// though the test is reported "ok".
+fn skipped(what: &str, why: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr().lock(), "SKIPPED {what}: {why}");
 }
