@@ -1153,3 +1153,24 @@ fn the_sample_task_runs_from_the_repository_root() {
     assert_eq!(task["edges"], flags["edges"]);
     assert_eq!(task["complete"], true);
 }
+
+/// Chamfers written as planar B-spline surfaces (STEP and IGES) read as planes: 10
+/// faces, 20 edges, 12 vertices, and the same card(PPC) as against each other.
+#[test]
+fn inspect_reads_planar_b_spline_chamfers() {
+    let out = acsg()
+        .args(["inspect", "--json"])
+        .arg(fixture("cad/chamfered_peg.step"))
+        .arg(fixture("cad/chamfered_peg.igs"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for k in 0..2 {
+        assert_eq!(v["parts"][k]["faces"], 10);
+        assert_eq!(v["parts"][k]["edges"], 20);
+        assert_eq!(v["parts"][k]["vertices"], 12);
+    }
+    // Every face and convex vertex of a convex part: f-v 10 x 12 twice, e-e 20 x 20.
+    assert_eq!(v["ppc"]["total"], 10 * 12 * 2 + 20 * 20);
+}

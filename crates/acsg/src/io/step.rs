@@ -14,9 +14,13 @@
 //! any prefix, or a `CONVERSION_BASED_UNIT` (inch, foot, ...) through its
 //! `LENGTH_MEASURE_WITH_UNIT`.
 //!
-//! Curved surfaces (`CYLINDRICAL_SURFACE`, `B_SPLINE_SURFACE_WITH_KNOTS`, ...), curved
-//! edges (`CIRCLE`, `B_SPLINE_CURVE_WITH_KNOTS`, ...) and solids with voids are refused,
-//! naming the instance (`#id` and type).
+//! A B-spline or Bézier surface (`B_SPLINE_SURFACE_WITH_KNOTS`, rational complex
+//! instances included) whose control points are coplanar is read as its plane, and a
+//! B-spline curve, `TRIMMED_CURVE` of a line or `POLYLINE` whose points are collinear
+//! as its line (within [`crate::tolerance::COPLANAR_REL`] of their size): OpenCASCADE
+//! writes chamfers so. Curved surfaces (`CYLINDRICAL_SURFACE`, a B-spline off its
+//! plane, ...), curved edges (`CIRCLE`, ...) and solids with voids are refused, naming
+//! the instance (`#id` and type).
 //!
 //! Why not `truck-stepio` (0.3.0, the crate DOMAIN.md names): measured on this 2-core
 //! machine, a clean build of it with the workspace's profile (dependencies at
@@ -33,7 +37,7 @@ use std::io::Read;
 
 use glam::DVec3;
 
-use super::planar::{PlanarFace, soup_from_faces};
+use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, soup_from_faces};
 use super::text::read_limited;
 use super::{MeshSoup, ParseError, Place};
 
@@ -553,6 +557,24 @@ const CURVED: &[&str] = &[
     "OFFSET_CURVE_3D",
 ];
 
+/// Surfaces read as planes when their control points are coplanar.
+const SPLINE_SURFACES: &[&str] = &[
+    "B_SPLINE_SURFACE_WITH_KNOTS",
+    "B_SPLINE_SURFACE",
+    "BEZIER_SURFACE",
+    "UNIFORM_SURFACE",
+    "QUASI_UNIFORM_SURFACE",
+];
+
+/// Curves read as straight edges when their control points are collinear.
+const SPLINE_CURVES: &[&str] = &[
+    "B_SPLINE_CURVE_WITH_KNOTS",
+    "B_SPLINE_CURVE",
+    "BEZIER_CURVE",
+    "UNIFORM_CURVE",
+    "QUASI_UNIFORM_CURVE",
+];
+
 impl Model {
     fn get(&self, id: u64, from: (u64, &Instance), what: &str) -> Result<&Instance, ParseError> {
         self.instances.get(&id).ok_or_else(|| {
@@ -735,6 +757,25 @@ impl Model {
 
     fn plane_normal(&self, id: u64, from: (u64, &Instance)) -> Result<DVec3, ParseError> {
         let s = self.get(id, from, "surface")?;
+        if s.part("PLANE").is_none()
+            && let Some(net) = self.spline_net(id, s, SPLINE_SURFACES)?
+        {
+            // A B-spline surface whose control points are coplanar is that plane
+            // (OpenCASCADE writes chamfers so).
+            return match net_shape(&net) {
+                NetShape::Plane(normal) => Ok(normal),
+                NetShape::Curved { deviation, tolerance } => Err(ParseError::new(
+                    Place::Line(s.line),
+                    format!(
+                        "#{id} {} is curved: its control points lie up to {deviation:.3e} mm off a plane (more \
+                         than the {tolerance:.1e} mm tolerance); acsg reads planar (polyhedral) solids only",
+                        s.type_name()
+                    ),
+                    EXPORT_HINT,
+                )),
+                NetShape::Degenerate => Err(self.bad(id, s, "its control points span no area")),
+            };
+        }
         let (_, args) = self.args(id, s, &["PLANE"])?;
         let placement = self.reference(id, s, args.get(1), "placement")?;
         let p = self.get(placement, (id, s), "placement")?;
@@ -742,6 +783,60 @@ impl Model {
         match pargs.get(2) {
             Some(Value::Ref(axis)) => self.direction(*axis, (placement, p)),
             _ => Ok(DVec3::Z),
+        }
+    }
+
+    /// The control points of a B-spline or Bézier surface (rows along u) or curve (one
+    /// row), in millimetres: the first list of references (of lists of references, for
+    /// a surface) in one of the instance's `kinds` parts. A simple instance has its
+    /// name first; a complex (rational) one keeps the points in its `B_SPLINE_*` part.
+    /// `None` when the instance is none of `kinds`.
+    fn spline_net(&self, id: u64, instance: &Instance, kinds: &[&str]) -> Result<Option<Vec<Vec<DVec3>>>, ParseError> {
+        let refs = |list: &[Value]| -> Option<Vec<u64>> {
+            list.iter()
+                .map(|v| match v {
+                    Value::Ref(r) => Some(*r),
+                    _ => None,
+                })
+                .collect()
+        };
+        let mut found = false;
+        for (name, args) in &instance.parts {
+            if !kinds.contains(&name.as_str()) {
+                continue;
+            }
+            found = true;
+            for arg in args {
+                let Value::List(items) = arg else { continue };
+                let rows: Option<Vec<Vec<u64>>> = if kinds == SPLINE_SURFACES {
+                    items
+                        .iter()
+                        .map(|row| match row {
+                            Value::List(row) => refs(row),
+                            _ => None,
+                        })
+                        .collect()
+                } else {
+                    refs(items).map(|row| vec![row])
+                };
+                let Some(rows) = rows.filter(|r| !r.is_empty() && r.iter().all(|row| !row.is_empty())) else {
+                    continue;
+                };
+                let mut net = Vec::with_capacity(rows.len());
+                for row in rows {
+                    net.push(
+                        row.into_iter()
+                            .map(|r| self.point(r, (id, instance)))
+                            .collect::<Result<Vec<_>, _>>()?,
+                    );
+                }
+                return Ok(Some(net));
+            }
+        }
+        if found {
+            Err(self.bad(id, instance, "its control points are not a list of points"))
+        } else {
+            Ok(None)
         }
     }
 
@@ -803,27 +898,59 @@ impl Model {
         self.point(self.reference(id, v, args.get(1), "point")?, (id, v))
     }
 
-    /// An edge's geometry must be straight: a LINE (also as a surface curve's 3D curve)
-    /// or a two-point POLYLINE.
+    /// An edge's geometry must be straight: a LINE (also as a surface curve's 3D curve
+    /// or a trimmed curve's basis), a POLYLINE or a B-spline or Bézier curve whose
+    /// points are collinear (within [`crate::tolerance::COPLANAR_REL`] of their extent).
     fn check_line(&self, id: u64, from: (u64, &Instance), depth: usize) -> Result<(), ParseError> {
         let c = self.get(id, from, "curve")?;
-        let (kind, args) = self.args(id, c, &["LINE", "POLYLINE", "SURFACE_CURVE", "SEAM_CURVE"])?;
+        if let Some(net) = self.spline_net(id, c, SPLINE_CURVES)? {
+            return self.straight(id, c, &net.concat());
+        }
+        let (kind, args) = self.args(
+            id,
+            c,
+            &["LINE", "POLYLINE", "SURFACE_CURVE", "SEAM_CURVE", "TRIMMED_CURVE"],
+        )?;
         match kind {
             "POLYLINE" => match args.get(1) {
-                Some(Value::List(points)) if points.len() == 2 => Ok(()),
-                _ => Err(ParseError::new(
-                    Place::Line(c.line),
-                    format!("#{id} POLYLINE: an edge curve with more than two points is not straight"),
-                    EXPORT_HINT,
-                )),
+                Some(Value::List(points)) if points.len() >= 2 => {
+                    let points = points
+                        .iter()
+                        .map(|p| self.point(self.reference(id, c, Some(p), "point")?, (id, c)))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    self.straight(id, c, &points)
+                }
+                _ => Err(self.bad(id, c, "its points are not a list of two or more")),
             },
-            "SURFACE_CURVE" | "SEAM_CURVE" if depth < 4 => {
-                let inner = self.reference(id, c, args.get(1), "3D curve")?;
+            "SURFACE_CURVE" | "SEAM_CURVE" | "TRIMMED_CURVE" if depth < 4 => {
+                let what = if kind == "TRIMMED_CURVE" {
+                    "basis curve"
+                } else {
+                    "3D curve"
+                };
+                let inner = self.reference(id, c, args.get(1), what)?;
                 self.check_line(inner, (id, c), depth + 1)
             }
             "LINE" => Ok(()),
-            _ => Err(self.bad(id, c, "surface curves nest too deep")),
+            _ => Err(self.bad(id, c, "curves nest too deep")),
         }
+    }
+
+    /// Refuses a curve whose points are not collinear, naming it.
+    fn straight(&self, id: u64, c: &Instance, points: &[DVec3]) -> Result<(), ParseError> {
+        let (deviation, tolerance) = line_deviation(points);
+        if deviation <= tolerance {
+            return Ok(());
+        }
+        Err(ParseError::new(
+            Place::Line(c.line),
+            format!(
+                "#{id} {} is curved: its points lie up to {deviation:.3e} mm off a straight line (more than the \
+                 {tolerance:.1e} mm tolerance); acsg reads straight edges only",
+                c.type_name()
+            ),
+            EXPORT_HINT,
+        ))
     }
 }
 
