@@ -386,11 +386,177 @@ def write_chamfered_iges(path: Path) -> None:
     path.write_text("\n".join(out) + "\n")
 
 
+class Step:
+    """A Part 21 file written entity by entity, in OpenCASCADE's layout."""
+
+    def __init__(self):
+        self.lines = []
+
+    def add(self, text):
+        self.lines.append(text)
+        return len(self.lines)
+
+    def point(self, p):
+        return self.add(f"CARTESIAN_POINT('',({','.join(real(x) for x in p)}))")
+
+    def direction(self, d):
+        return self.add(f"DIRECTION('',({','.join(real(x) for x in d)}))")
+
+    def placement(self, origin, axis, ref):
+        o, a, r = self.point(origin), self.direction(axis), self.direction(ref)
+        return self.add(f"AXIS2_PLACEMENT_3D('',#{o},#{a},#{r})")
+
+    def vertex(self, p):
+        return self.add(f"VERTEX_POINT('',#{self.point(p)})")
+
+    def line(self, p, d):
+        vector = self.add(f"VECTOR('',#{self.direction(d)},1.)")
+        return self.add(f"LINE('',#{self.point(p)},#{vector})")
+
+    def edge(self, v1, v2, curve, sense=True):
+        return self.add(f"EDGE_CURVE('',#{v1},#{v2},#{curve},{'.T.' if sense else '.F.'})")
+
+    def face(self, loops, surface, same_sense=True):
+        """`loops`: lists of (edge, forward); the first is the outer bound."""
+        bounds = []
+        for k, loop in enumerate(loops):
+            oriented = [self.add(f"ORIENTED_EDGE('',*,*,#{e},{'.T.' if fwd else '.F.'})") for e, fwd in loop]
+            edge_loop = self.add(f"EDGE_LOOP('',({','.join(f'#{o}' for o in oriented)}))")
+            kind = "FACE_OUTER_BOUND" if k == 0 and len(loops) > 1 else "FACE_BOUND"
+            bounds.append(self.add(f"{kind}('',#{edge_loop},.T.)"))
+        return self.add(f"ADVANCED_FACE('',({','.join(f'#{b}' for b in bounds)}),#{surface},"
+                        f"{'.T.' if same_sense else '.F.'})")
+
+    def write(self, path: Path, faces):
+        head = [
+            "APPLICATION_PROTOCOL_DEFINITION('international standard',\n  'automotive_design',2000,#2)",
+            "APPLICATION_CONTEXT(\n  'core data for automotive mechanical design processes')",
+            "SHAPE_DEFINITION_REPRESENTATION(#4,#10)",
+            "PRODUCT_DEFINITION_SHAPE('','',#5)",
+            "PRODUCT_DEFINITION('design','',#6,#9)",
+            "PRODUCT_DEFINITION_FORMATION('','',#7)",
+            "PRODUCT('Open CASCADE STEP translator 8.0 3',\n  'Open CASCADE STEP translator 8.0 3','',(#8))",
+            "PRODUCT_CONTEXT('',#2,'mechanical')",
+            "PRODUCT_DEFINITION_CONTEXT('part definition',#2,'design')",
+            "ADVANCED_BREP_SHAPE_REPRESENTATION('',(#11,#15),#CONTEXT)",
+            "AXIS2_PLACEMENT_3D('',#12,#13,#14)",
+            "CARTESIAN_POINT('',(0.,0.,0.))",
+            "DIRECTION('',(0.,0.,1.))",
+            "DIRECTION('',(1.,0.,-0.))",
+            "MANIFOLD_SOLID_BREP('',#16)",
+            "CLOSED_SHELL('',(FACES))",
+        ]
+        offset = len(head)
+        renumber = lambda text: re.sub(r"#(\d+)", lambda m: f"#{int(m.group(1)) + offset}", text)
+        body = [renumber(t) for t in self.lines]
+        context = offset + len(body) + 1
+        mm = context + 1
+        head[9] = head[9].replace("#CONTEXT", f"#{context}")
+        head[15] = head[15].replace("FACES", ",".join(f"#{f + offset}" for f in faces))
+        lines = [f"#{k + 1} = {t};" for k, t in enumerate(head + body)]
+        lines.append(
+            f"#{context} = ( GEOMETRIC_REPRESENTATION_CONTEXT(3) \nGLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{context + 4})) "
+            f"GLOBAL_UNIT_ASSIGNED_CONTEXT\n((#{mm},#{mm + 1},#{mm + 2})) REPRESENTATION_CONTEXT('Context #1',\n"
+            "  '3D Context with UNIT and UNCERTAINTY') );")
+        lines.append(f"#{mm} = ( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );")
+        lines.append(f"#{mm + 1} = ( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) );")
+        lines.append(f"#{mm + 2} = ( NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT() );")
+        lines.append(f"#{context + 4} = UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#{mm},\n"
+                     "  'distance_accuracy_value','confusion accuracy');")
+        lines.append(f"#{context + 5} = PRODUCT_RELATED_PRODUCT_CATEGORY('part',$,(#7));")
+        text = ("ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('Open CASCADE Model'),'2;1');\n"
+                "FILE_NAME('Open CASCADE Shape Model','2024-01-01T00:00:00',('Author'),(\n"
+                "    'Open CASCADE'),'Open CASCADE STEP processor 8.0','Open CASCADE 8.0'\n  ,'Unknown');\n"
+                "FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));\nENDSEC;\nDATA;\n"
+                + "\n".join(lines) + "\nENDSEC;\nEND-ISO-10303-21;\n")
+        path.write_text(text)
+
+
+def circle_edge(step, centre, radius, vertex):
+    """A full circle about +z through `vertex` (at angle 0: the reference direction
+    +x), as OpenCASCADE writes it: an EDGE_CURVE from the vertex to itself."""
+    circle = step.add(f"CIRCLE('',#{step.placement(centre, (0, 0, 1), (1, 0, 0))},{real(radius)})")
+    return step.edge(vertex, vertex, step.add(f"SURFACE_CURVE('',#{circle},(),.PCURVE_S1.)"))
+
+
+def seam_edge(step, v1, p1, v2):
+    return step.edge(v1, v2, step.add(f"SEAM_CURVE('',#{step.line(p1, (0, 0, 1))},(),.PCURVE_S1.)"))
+
+
+def write_round_peg_step(path: Path) -> None:
+    """The round peg of scripts/make_fixtures.py as a true cylinder: axis x = y = 50,
+    z in [10, 90], radius 14 (the OFF's circumradius), seam at angle 0."""
+    step = Step()
+    c, r, z0, z1 = (50.0, 50.0), 14.0, 10.0, 90.0
+    pb, pt = (c[0] + r, c[1], z0), (c[0] + r, c[1], z1)
+    vb, vt = step.vertex(pb), step.vertex(pt)
+    bottom = circle_edge(step, (c[0], c[1], z0), r, vb)
+    top = circle_edge(step, (c[0], c[1], z1), r, vt)
+    seam = seam_edge(step, vb, pb, vt)
+    faces = [
+        step.face([[(top, True)]], step.add(f"PLANE('',#{step.placement((c[0], c[1], z1), (0, 0, 1), (1, 0, 0))})")),
+        step.face([[(bottom, False)]],
+                  step.add(f"PLANE('',#{step.placement((c[0], c[1], z0), (0, 0, 1), (1, 0, 0))})"), False),
+        step.face([[(bottom, True), (seam, True), (top, False), (seam, False)]],
+                  step.add(f"CYLINDRICAL_SURFACE('',#{step.placement((c[0], c[1], z0), (0, 0, 1), (1, 0, 0))},"
+                           f"{real(r)})")),
+    ]
+    step.write(path, faces)
+
+
+def write_round_hole_step(path: Path) -> None:
+    """The block with a round hole of scripts/make_fixtures.py as true surfaces: block
+    x, y in [0, 100], z in [0, 50]; a cylinder of radius 15 about x = y = 50 for
+    z in [0, 47], then a cone to the radius 15 + 3 / cos(pi / 32) at z = 50 (the OFF's
+    chamfer, whose apothem is 15 cos(pi / 32) + 3)."""
+    step = Step()
+    c, r, z_cone = (50.0, 50.0), 15.0, 47.0
+    r_top = 15.0 + 3.0 / math.cos(math.pi / 32)
+    corners = [(0.0, 0.0), (100.0, 0.0), (100.0, 100.0), (0.0, 100.0)]
+    low = [step.vertex((x, y, 0.0)) for x, y in corners]
+    high = [step.vertex((x, y, 50.0)) for x, y in corners]
+    bottom_edges, top_edges, vertical = [], [], []
+    for k, (x, y) in enumerate(corners):
+        nx, ny = corners[(k + 1) % 4]
+        d = unit((nx - x, ny - y, 0.0))
+        bottom_edges.append(step.edge(low[k], low[(k + 1) % 4], step.line((x, y, 0.0), d)))
+        top_edges.append(step.edge(high[k], high[(k + 1) % 4], step.line((x, y, 50.0), d)))
+        vertical.append(step.edge(low[k], high[k], step.line((x, y, 0.0), (0, 0, 1))))
+    p0, p1, p2 = (c[0] + r, c[1], 0.0), (c[0] + r, c[1], z_cone), (c[0] + r_top, c[1], 50.0)
+    h0, h1, h2 = step.vertex(p0), step.vertex(p1), step.vertex(p2)
+    circle0 = circle_edge(step, (c[0], c[1], 0.0), r, h0)
+    circle1 = circle_edge(step, (c[0], c[1], z_cone), r, h1)
+    circle2 = circle_edge(step, (c[0], c[1], 50.0), r_top, h2)
+    seam0 = seam_edge(step, h0, p0, h1)
+    cone_dir = unit(sub(p2, p1))
+    seam1 = step.edge(h1, h2, step.add(f"SEAM_CURVE('',#{step.line(p1, cone_dir)},(),.PCURVE_S1.)"))
+    plane = lambda z, n: step.add(f"PLANE('',#{step.placement((0.0, 0.0, z), n, (1, 0, 0))})")
+    faces = [
+        step.face([[(e, True) for e in top_edges], [(circle2, False)]], plane(50.0, (0, 0, 1))),
+        step.face([[(e, False) for e in reversed(bottom_edges)], [(circle0, True)]], plane(0.0, (0, 0, 1)), False),
+    ]
+    for k, (x, y) in enumerate(corners):
+        n = (k + 1) % 4
+        normal = cross(unit((corners[n][0] - x, corners[n][1] - y, 0.0)), (0, 0, 1))
+        surface = step.add(f"PLANE('',#{step.placement((x, y, 0.0), normal, unit((corners[n][0] - x, corners[n][1] - y, 0.0)))})")
+        faces.append(step.face([[(bottom_edges[k], True), (vertical[n], True), (top_edges[k], False),
+                                 (vertical[k], False)]], surface))
+    cylinder = step.add(f"CYLINDRICAL_SURFACE('',#{step.placement((c[0], c[1], 0.0), (0, 0, 1), (1, 0, 0))},{real(r)})")
+    faces.append(step.face([[(circle0, True), (seam0, True), (circle1, False), (seam0, False)]], cylinder, False))
+    semi_angle = math.atan2(r_top - r, 50.0 - z_cone)
+    cone = step.add(f"CONICAL_SURFACE('',#{step.placement((c[0], c[1], z_cone), (0, 0, 1), (1, 0, 0))},{real(r)},"
+                    f"{real(semi_angle)})")
+    faces.append(step.face([[(circle1, True), (seam1, True), (circle2, False), (seam1, False)]], cone, False))
+    step.write(path, faces)
+
+
 def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
+    write_round_peg_step(OUT / "round_peg.step")
+    write_round_hole_step(OUT / "block_with_round_hole.step")
     write_chamfered_step(OUT / "chamfered_peg.step")
     write_chamfered_iges(OUT / "chamfered_peg.igs")
-    print("fixtures/cad/chamfered_peg.step, fixtures/cad/chamfered_peg.igs (standard library)")
+    print("fixtures/cad/chamfered_peg.step, .igs, round_peg.step, block_with_round_hole.step (standard library)")
     if not HAVE_OCP:
         print("OpenCASCADE (OCP) is not installed: the other fixtures are left as committed")
         return

@@ -98,6 +98,10 @@ enum Command {
         /// The length unit, overriding the task file's `units` key.
         #[arg(long, value_name = "UNIT")]
         units: Option<acsg::units::LengthUnit>,
+        /// Read STEP cylinders, cones and circles as planar facets within this chord
+        /// tolerance (as `generate --facet`).
+        #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+        facet: Option<f64>,
         #[command(flatten)]
         run: RunFlags,
     },
@@ -147,6 +151,30 @@ struct UnitsFlag {
     /// is not given). Bounds and every length printed are in it.
     #[arg(long, value_name = "UNIT")]
     units: Option<acsg::units::LengthUnit>,
+    /// Read STEP cylinders, cones and circles as planar facets: every circle becomes
+    /// an inscribed polygon straying at most this far (in the run's unit) from it, the
+    /// same number of sides for every circle of a file. The graph is then that of the
+    /// faceted parts.
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    facet: Option<f64>,
+}
+
+impl UnitsFlag {
+    /// The chord tolerance, checked.
+    fn facet(&self) -> anyhow::Result<Option<f64>> {
+        check_facet(self.facet)
+    }
+}
+
+/// A `--facet` tolerance must be a positive finite length.
+fn check_facet(facet: Option<f64>) -> anyhow::Result<Option<f64>> {
+    match facet {
+        Some(f) if !(f.is_finite() && f > 0.0) => Err(UsageError(format!(
+            "invalid --facet: {f} (give the chord tolerance as a positive length, e.g. --facet 0.05)"
+        ))
+        .into()),
+        other => Ok(other),
+    }
 }
 
 /// Options shared by the commands that generate a graph.
@@ -234,12 +262,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             units,
             json,
         } => {
-            let unit = units.units;
-            let (fixed, fixed_format) = Part::from_path_in(&fixed, unit)?;
-            let moving = moving.map(|m| Part::from_path_in(&m, unit)).transpose()?;
+            let (unit, facet) = (units.units, units.facet()?);
+            let (fixed, fixed_format) = Part::from_path_with(&fixed, unit, facet)?;
+            let moving = moving.map(|m| Part::from_path_with(&m, unit, facet)).transpose()?;
             let formats = [Some(fixed_format), moving.as_ref().map(|m| m.1)];
             let mut report = Inspection::of(&fixed, moving.as_ref().map(|m| &m.0));
             report.units = units_label(unit, &formats);
+            report.facet = facet;
             print_inspection(&report, json)
         }
         Command::Contacts {
@@ -265,9 +294,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 ))
                 .into());
             }
-            let unit = units.units;
-            let (fixed, fixed_format) = Part::from_path_in(&fixed, unit)?;
-            let (moving, moving_format) = Part::from_path_in(&moving, unit)?;
+            let (unit, facet) = (units.units, units.facet()?);
+            let (fixed, fixed_format) = Part::from_path_with(&fixed, unit, facet)?;
+            let (moving, moving_format) = Part::from_path_with(&moving, unit, facet)?;
             let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let g = assembled.to_affine(&DAffine3::IDENTITY);
             let placement = pose.to_affine(&g);
@@ -291,23 +320,30 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 options.assembled = g.to_affine(&DAffine3::IDENTITY);
             }
             let names = [fixed.display().to_string(), moving.display().to_string()];
-            let unit = units.units;
-            let (fixed, fixed_format) = Part::from_path_in(&fixed, unit)?;
-            let (moving, moving_format) = Part::from_path_in(&moving, unit)?;
+            let (unit, facet) = (units.units, units.facet()?);
+            let (fixed, fixed_format) = Part::from_path_with(&fixed, unit, facet)?;
+            let (moving, moving_format) = Part::from_path_with(&moving, unit, facet)?;
             let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let job = Job {
                 names,
                 bounds,
                 options,
                 length,
+                facet,
             };
             generate_and_write((fixed, moving), job, run, None)
         }
-        Command::Run { task, units, run } => {
+        Command::Run {
+            task,
+            units,
+            facet,
+            run,
+        } => {
             let job = Task::from_path(&task)?;
             let unit = units.or(job.units);
-            let (fixed, fixed_format) = Part::from_path_in(&job.fixed, unit)?;
-            let (moving, moving_format) = Part::from_path_in(&job.moving, unit)?;
+            let facet = check_facet(facet.or(job.facet))?;
+            let (fixed, fixed_format) = Part::from_path_with(&job.fixed, unit, facet)?;
+            let (moving, moving_format) = Part::from_path_with(&job.moving, unit, facet)?;
             let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let default_output = task.with_extension("graph.json");
             let run_job = Job {
@@ -315,6 +351,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 bounds: job.bounds,
                 options: job.options,
                 length,
+                facet,
             };
             generate_and_write((fixed, moving), run_job, run, Some(default_output))
         }
@@ -325,6 +362,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 bounds: acsg::examples::paper_bounds(),
                 options: Options::default(),
                 length: acsg::units::LengthUnit::Mm.symbol().to_string(),
+                facet: None,
             };
             let output = Some(PathBuf::from("acsg-demo.graph.json"));
             generate_and_write(parts, job, run, output)
@@ -372,6 +410,8 @@ struct Job {
     options: Options,
     /// The label of lengths (`mm`, ..., or "model units").
     length: String,
+    /// The chord tolerance STEP curved faces were faceted with, if any.
+    facet: Option<f64>,
 }
 
 /// Generates a graph, prints its summary and writes its JSON (to `flags.output`, else
@@ -387,6 +427,7 @@ fn generate_and_write(
         bounds,
         mut options,
         length,
+        facet,
     } = job;
     options.degenerate |= flags.degenerate;
     if let Some(threads) = flags.threads {
@@ -422,12 +463,22 @@ fn generate_and_write(
     }
     let mut document = Document::new(&graph, &fixed, &moving, &bounds, &options, [&names[0], &names[1]]);
     document.units.length.clone_from(&length);
+    document.facet = facet;
     let json = document.to_json();
     let output = flags.output.or(default_output);
     // Results first, messages after: a closed stdout must not cost a result file.
     let mut messages = String::new();
     if !flags.quiet {
         messages.push_str(&summary(&graph, &names, &bounds, &length));
+        if let Some(f) = facet {
+            messages.insert_str(
+                0,
+                &format!(
+                    "facets STEP cylinders, cones and circles read as planar facets (chord tolerance {f} {length}): \
+                     the graph is of the faceted parts\n"
+                ),
+            );
+        }
     }
     match &output {
         Some(path) => {
@@ -575,6 +626,14 @@ fn print_inspection(report: &Inspection, json: bool) -> anyhow::Result<()> {
         return Ok(());
     }
     writeln!(out, "units  {} (lengths, volumes in cubic {0})", report.units)?;
+    if let Some(f) = report.facet {
+        writeln!(
+            out,
+            "facets STEP cylinders, cones and circles read as planar facets (chord tolerance {f} {}): the counts \
+             are of the faceted parts",
+            report.units
+        )?;
+    }
     for (i, p) in report.parts.iter().enumerate() {
         let role = match (i, report.parts.len()) {
             (_, 1) => "",

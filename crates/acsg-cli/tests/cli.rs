@@ -1174,3 +1174,96 @@ fn inspect_reads_planar_b_spline_chamfers() {
     // Every face and convex vertex of a convex part: f-v 10 x 12 twice, e-e 20 x 20.
     assert_eq!(v["ppc"]["total"], 10 * 12 * 2 + 20 * 20);
 }
+
+/// `--facet` reads STEP cylinders, cones and circles as planar facets: the round peg
+/// and the block with a round hole come out as the 32-sided OFF fixtures (same counts
+/// and card(PPC)); the run says that its graph is of the faceted parts.
+#[test]
+fn facet_reads_round_step_parts_as_prisms() {
+    let inspect = |args: &[&str], files: [&str; 2]| {
+        let out = acsg()
+            .args(["inspect", "--json"])
+            .args(args)
+            .arg(fixture(files[0]))
+            .arg(fixture(files[1]))
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let step = inspect(
+        &["--facet", "0.1"],
+        ["cad/block_with_round_hole.step", "cad/round_peg.step"],
+    );
+    let off = inspect(&[], ["block_with_round_hole.off", "round_peg.off"]);
+    assert_eq!(step["facet"], 0.1);
+    assert_eq!(step["ppc"], off["ppc"]);
+    for k in 0..2 {
+        for key in ["faces", "edges", "vertices", "convex_pieces"] {
+            assert_eq!(step["parts"][k][key], off["parts"][k][key], "{key}");
+        }
+    }
+    // Without --facet the circle is refused, and the flag suggested.
+    acsg()
+        .arg("inspect")
+        .arg(fixture("cad/round_peg.step"))
+        .assert()
+        .code(1)
+        .stderr(contains("CIRCLE is curved").and(contains("--facet MM")));
+    for bad in ["0", "-1", "nan"] {
+        acsg()
+            .arg("inspect")
+            .arg(fixture("cad/round_peg.step"))
+            .args(["--facet", bad])
+            .assert()
+            .code(2)
+            .stderr(contains("invalid --facet"));
+    }
+    // A run: the summary and the JSON say the graph is of the faceted parts.
+    let dir = tempfile::tempdir().unwrap();
+    let graph = dir.path().join("g.json");
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cad/round_peg.step"))
+        .args(["--facet", "0.3", "--units", "mm", "--bounds", "z=0:5", "-o"])
+        .arg(&graph)
+        .assert()
+        .success()
+        .stdout(contains("chord tolerance 0.3 mm): the graph is of the faceted parts"));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&graph).unwrap()).unwrap();
+    assert_eq!(v["facet"], 0.3);
+    assert_eq!(v["moving"]["faces"].as_array().unwrap().len(), 2 + 16);
+}
+
+#[test]
+fn a_task_file_can_ask_for_facets() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+    let body = |facet: &str| {
+        format!(
+            "fixed = \"{}\"\nmoving = \"{}\"\nunits = \"mm\"\nfacet = {facet}\n[bounds]\nx = [0, 0]\ny = [0, 0]\n\
+             z = [0, 5]\nrx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n",
+            root.join("slab.off").display(),
+            root.join("cad/round_peg.step").display()
+        )
+    };
+    let task = dir.path().join("round.toml");
+    std::fs::write(&task, body("0.3")).unwrap();
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .assert()
+        .success()
+        .stdout(contains("chord tolerance 0.3 mm"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("round.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["facet"], 0.3);
+    std::fs::write(&task, body("-2")).unwrap();
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .assert()
+        .code(1)
+        .stderr(contains("round.toml:4:9: facet = -2"));
+}

@@ -5,6 +5,7 @@
 //! fixed = "l_block.off"          # relative to the task file
 //! moving = "box.off"
 //! units = "mm"                   # optional: mm, cm, m or in (see acsg::units)
+//! facet = 0.05                   # optional: read STEP cylinders, cones, circles as facets
 //!
 //! [bounds]                       # [min, max]; lengths in `units`, angles in degrees (±180)
 //! x = [-5, 5]
@@ -74,6 +75,8 @@ struct TaskFile {
     moving: String,
     #[serde(default)]
     units: Option<LengthUnit>,
+    #[serde(default)]
+    facet: Option<toml::Spanned<f64>>,
     bounds: BoundsTable,
     #[serde(default)]
     options: OptionsTable,
@@ -148,6 +151,9 @@ pub struct Task {
     pub moving: PathBuf,
     /// The length unit of the run, if the task file gives one (`units = "mm"`).
     pub units: Option<LengthUnit>,
+    /// The chord tolerance for reading STEP cylinders, cones and circles as facets
+    /// (`facet = 0.05`, in `units`), if given.
+    pub facet: Option<f64>,
     /// The bounds (radians inside).
     pub bounds: Bounds,
     /// The options.
@@ -240,6 +246,19 @@ impl Task {
                 place: format!("{}: [bounds]", path.display()),
                 source,
             })?;
+        let facet = match &file.facet {
+            Some(f) if !(f.get_ref().is_finite() && *f.get_ref() > 0.0) => {
+                return Err(at(
+                    f.span(),
+                    format!(
+                        "facet = {} (give the chord tolerance as a positive length)",
+                        f.get_ref()
+                    ),
+                ));
+            }
+            Some(f) => Some(*f.get_ref()),
+            None => None,
+        };
         let threads = match &file.options.threads {
             Some(t) => {
                 check_threads(*t.get_ref()).map_err(|m| at(t.span(), format!("[options] threads: {m}")))?;
@@ -277,6 +296,7 @@ impl Task {
             fixed_given: file.fixed,
             moving_given: file.moving,
             units: file.units,
+            facet,
             bounds,
             options,
         })

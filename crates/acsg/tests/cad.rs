@@ -428,3 +428,74 @@ fn curved_b_spline_surfaces_are_refused_by_name() {
         "{e}"
     );
 }
+
+fn faceted(name: &str, facet_mm: f64) -> Result<Part, String> {
+    Part::from_path_with(&fixture(name), None, Some(facet_mm))
+        .map(|(part, _)| part)
+        .map_err(|e| e.to_string())
+}
+
+/// With a chord tolerance, the STEP round peg (a true cylinder) and the block with a
+/// round hole (a cylinder, then a cone) become the 32-sided prisms that
+/// scripts/make_fixtures.py wrote independently as OFF (60-digit arithmetic): same
+/// counts, same vertices, same face planes.
+#[test]
+fn faceted_cylinders_and_cones_match_the_polygonal_fixtures() {
+    for (step, off) in [
+        ("cad/round_peg.step", "round_peg.off"),
+        ("cad/block_with_round_hole.step", "block_with_round_hole.off"),
+    ] {
+        // 0.1 mm: 32 sides for both files (16 would stray 0.27 and 0.35 mm).
+        let part = faceted(step, 0.1).unwrap_or_else(|e| panic!("{e}"));
+        let mesh = load(off);
+        assert_eq!(counts(&part), counts(&mesh), "{step}");
+        assert_eq!(geometry(&part), geometry(&mesh), "{step}");
+        assert!((part.volume() - mesh.volume()).abs() < 1e-6 * mesh.volume(), "{step}");
+    }
+    // A coarser tolerance: the fewest sides (a power of two) whose chord strays at most
+    // that far, r (1 - cos(pi / n)) <= 0.3 for r = 14: n = 16; the prism's volume is
+    // (n / 2) r^2 sin(2 pi / n) times the height.
+    let peg = faceted("cad/round_peg.step", 0.3).unwrap();
+    let n = 16.0_f64;
+    assert!(14.0 * (1.0 - (std::f64::consts::PI / n).cos()) <= 0.3);
+    assert!(14.0 * (1.0 - (std::f64::consts::PI / (n / 2.0)).cos()) > 0.3);
+    assert_eq!(peg.faces().len(), 2 + 16);
+    let volume = n / 2.0 * 14.0 * 14.0 * (std::f64::consts::TAU / n).sin() * 80.0;
+    assert!(
+        (peg.volume() - volume).abs() < 1e-9 * volume,
+        "{} vs {volume}",
+        peg.volume()
+    );
+}
+
+#[test]
+fn curved_surfaces_are_refused_with_or_without_facets() {
+    // Without --facet: the circle is named and --facet suggested.
+    let e = Part::from_path(&fixture("cad/round_peg.step")).unwrap_err().to_string();
+    assert!(e.contains("CIRCLE is curved") && e.contains("--facet"), "{e}");
+    // A sphere is not faceted: refused by name.
+    let peg = text("cad/round_peg.step");
+    let sphere = peg.replace("CYLINDRICAL_SURFACE('',", "SPHERICAL_SURFACE('',");
+    assert_ne!(sphere, peg);
+    let path = std::env::temp_dir().join(format!("acsg-sphere-{}.step", std::process::id()));
+    std::fs::write(&path, &sphere).unwrap();
+    let e = Part::from_path_with(&path, None, Some(0.1)).unwrap_err().to_string();
+    let _ = std::fs::remove_file(&path);
+    assert!(
+        e.contains("SPHERICAL_SURFACE is curved") && e.contains("faceted"),
+        "{e}"
+    );
+    // A cylinder face bounded otherwise than by two whole circles (here the bottom
+    // circle of its loop replaced by the seam) is refused, naming face and surface.
+    let line = "#64 = ORIENTED_EDGE('',*,*,#27,.T.);";
+    assert!(peg.contains(line), "the fixture changed: update this test");
+    let one_circle = peg.replace(line, "#64 = ORIENTED_EDGE('',*,*,#40,.T.);");
+    let path = std::env::temp_dir().join(format!("acsg-one-circle-{}.step", std::process::id()));
+    std::fs::write(&path, &one_circle).unwrap();
+    let e = Part::from_path_with(&path, None, Some(0.1)).unwrap_err().to_string();
+    let _ = std::fs::remove_file(&path);
+    assert!(
+        e.contains("CYLINDRICAL_SURFACE: it is bounded by 1 whole circles, not two") && e.contains("--facet"),
+        "{e}"
+    );
+}

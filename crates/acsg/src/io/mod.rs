@@ -23,6 +23,15 @@ mod text;
 /// of about 21 million triangles).
 pub const MAX_INPUT_BYTES: u64 = 1 << 30;
 
+/// How to read a model.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReadOptions {
+    /// Read STEP cylinders, cones and circles as planar facets within this chord
+    /// tolerance (millimetres); see [`step::read_faceted`]. Meshes are already facets;
+    /// IGES curved entities are refused either way.
+    pub facet_mm: Option<f64>,
+}
+
 /// Points and polygons as a file states them, before any validation of the solid.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshSoup {
@@ -172,6 +181,17 @@ impl Format {
     /// # Errors
     /// A [`ParseError`] naming the place and the fix when the input is not valid.
     pub fn read(self, reader: impl Read) -> Result<MeshSoup, ParseError> {
+        self.read_with(reader, &ReadOptions::default())
+    }
+
+    /// [`Format::read`] with options (faceting of STEP cylinders, cones and circles).
+    ///
+    /// # Errors
+    /// A [`ParseError`] naming the place and the fix when the input is not valid.
+    pub fn read_with(self, reader: impl Read, options: &ReadOptions) -> Result<MeshSoup, ParseError> {
+        if let (Format::Step, Some(facet)) = (self, options.facet_mm) {
+            return step::read_faceted(reader, Some(facet));
+        }
         match self {
             Format::Off => off::read(reader),
             Format::Obj => obj::read(reader),
@@ -270,6 +290,14 @@ pub fn read_path(path: &Path) -> Result<MeshSoup, ReadError> {
 /// # Errors
 /// [`ReadError`] naming the file, the place and the fix.
 pub fn read_path_as(path: &Path) -> Result<(MeshSoup, Format), ReadError> {
+    read_path_with(path, &ReadOptions::default())
+}
+
+/// [`read_path_as`] with options.
+///
+/// # Errors
+/// [`ReadError`] naming the file, the place and the fix.
+pub fn read_path_with(path: &Path, options: &ReadOptions) -> Result<(MeshSoup, Format), ReadError> {
     let io_err = |source| ReadError::Io {
         path: path.to_path_buf(),
         source,
@@ -284,7 +312,7 @@ pub fn read_path_as(path: &Path) -> Result<(MeshSoup, Format), ReadError> {
         CappedReadError::Io(source) => io_err(source),
         CappedReadError::TooLarge(size) => too_large(size),
     })?;
-    read_bytes_as(&bytes, path)
+    read_bytes_with(&bytes, path, options)
 }
 
 /// The input size limit: [`MAX_INPUT_BYTES`], or less when the environment variable
@@ -341,6 +369,14 @@ pub fn read_bytes(bytes: &[u8], path: &Path) -> Result<MeshSoup, ReadError> {
 /// # Errors
 /// [`ReadError`] naming the file, the place and the fix.
 pub fn read_bytes_as(bytes: &[u8], path: &Path) -> Result<(MeshSoup, Format), ReadError> {
+    read_bytes_with(bytes, path, &ReadOptions::default())
+}
+
+/// [`read_bytes_as`] with options.
+///
+/// # Errors
+/// [`ReadError`] naming the file, the place and the fix.
+pub fn read_bytes_with(bytes: &[u8], path: &Path, options: &ReadOptions) -> Result<(MeshSoup, Format), ReadError> {
     if bytes.iter().all(u8::is_ascii_whitespace) {
         return Err(ReadError::Empty {
             path: path.to_path_buf(),
@@ -351,7 +387,7 @@ pub fn read_bytes_as(bytes: &[u8], path: &Path) -> Result<(MeshSoup, Format), Re
         .ok_or_else(|| ReadError::UnknownFormat {
             path: path.to_path_buf(),
         })?;
-    let soup = format.read(bytes).map_err(|detail| ReadError::Parse {
+    let soup = format.read_with(bytes, options).map_err(|detail| ReadError::Parse {
         path: path.to_path_buf(),
         format,
         detail,

@@ -104,6 +104,13 @@ pub(crate) fn line_deviation(points: &[DVec3]) -> (f64, f64) {
     (deviation, crate::tolerance::COPLANAR_REL * extent)
 }
 
+/// Newell's normal of a polygon (its length is twice the area), counter-clockwise
+/// order giving the normal the right-hand rule says.
+pub(crate) fn newell(points: &[DVec3]) -> DVec3 {
+    let n = points.len();
+    (0..n).map(|i| points[i].cross(points[(i + 1) % n])).sum::<DVec3>() / 2.0
+}
+
 fn signed_area(points: &[DVec2]) -> f64 {
     let n = points.len();
     (0..n).map(|i| points[i].perp_dot(points[(i + 1) % n])).sum::<f64>() / 2.0

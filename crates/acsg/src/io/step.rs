@@ -37,13 +37,13 @@ use std::io::Read;
 
 use glam::DVec3;
 
-use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, soup_from_faces};
+use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, newell, soup_from_faces};
 use super::text::read_limited;
 use super::{MeshSoup, ParseError, Place};
 
 /// What every refusal suggests.
-const EXPORT_HINT: &str =
-    "export the part as a planar (faceted) solid, e.g. STEP AP214 with planar faces, or as a mesh (OFF, STL, OBJ, PLY)";
+const EXPORT_HINT: &str = "export the part as a planar (faceted) solid, e.g. STEP AP214 with planar faces, or as a mesh \
+     (OFF, STL, OBJ, PLY); cylinders, cones and circles can also be read as facets with --facet MM";
 
 /// Nesting limit for lists and typed parameters.
 const MAX_DEPTH: usize = 32;
@@ -91,13 +91,33 @@ impl Instance {
 /// curved surface or edge, a broken reference, a non-planar face or a loop that does
 /// not close.
 pub fn read(reader: impl Read) -> Result<MeshSoup, ParseError> {
+    read_faceted(reader, None)
+}
+
+/// [`read`], with cylindrical and conical faces and circular edges made planar facets
+/// when `facet_mm` gives a chord tolerance (millimetres): every circle becomes a
+/// polygon inscribed in it whose sides stray at most that far from the arc (the same
+/// number of sides, a power of two, for every circle of the file: the one the largest
+/// circle needs), and a cylinder or cone between two full circles becomes the band of
+/// planar quadrilaterals between their polygons.
+///
+/// # Errors
+/// Those of [`read`]; with `facet_mm`, a curved face other than a full cylinder or cone
+/// between two circles is refused by name.
+pub fn read_faceted(reader: impl Read, facet_mm: Option<f64>) -> Result<MeshSoup, ParseError> {
     let bytes = read_limited(reader)?;
     let text = String::from_utf8_lossy(&bytes);
     let instances = parse(&text)?;
-    let model = Model {
+    let mut model = Model {
         to_mm: length_unit(&instances)?,
         instances,
+        facet: None,
     };
+    if let Some(tolerance) = facet_mm {
+        model.facet = Some(Facet {
+            sides: model.circle_sides(tolerance)?,
+        });
+    }
     let faces = model.faces()?;
     soup_from_faces(faces, EXPORT_HINT)
 }
@@ -529,6 +549,40 @@ fn length_unit(instances: &HashMap<u64, Instance>) -> Result<f64, ParseError> {
 struct Model {
     instances: HashMap<u64, Instance>,
     to_mm: f64,
+    /// How circles are faceted, when they are.
+    facet: Option<Facet>,
+}
+
+/// Faceting of circles: `sides` per full circle (from the chord tolerance).
+#[derive(Clone, Copy, Debug)]
+struct Facet {
+    sides: usize,
+}
+
+/// The most sides a faceted circle may have.
+const MAX_SIDES: usize = 1 << 16;
+
+/// A circle in millimetres: centre, in-plane axes (`x` the placement's reference
+/// direction), normal `axis`, radius.
+#[derive(Clone, Copy, Debug)]
+struct Circle {
+    centre: DVec3,
+    x: DVec3,
+    y: DVec3,
+    axis: DVec3,
+    radius: f64,
+}
+
+impl Circle {
+    fn at(&self, angle: f64) -> DVec3 {
+        self.centre + self.radius * (angle.cos() * self.x + angle.sin() * self.y)
+    }
+
+    /// The angle of `p` about the axis, in [0, 2π).
+    fn angle(&self, p: DVec3) -> f64 {
+        let d = p - self.centre;
+        d.dot(self.y).atan2(d.dot(self.x)).rem_euclid(std::f64::consts::TAU)
+    }
 }
 
 /// Entities that make a face or an edge curved.
@@ -711,13 +765,19 @@ impl Model {
             };
             for f in list {
                 let f = self.reference(shell, s, Some(f), "face")?;
-                faces.push(self.face(f, (shell, s), true, 0)?);
+                faces.extend(self.face(f, (shell, s), true, 0)?);
             }
         }
         Ok(faces)
     }
 
-    fn face(&self, id: u64, from: (u64, &Instance), outward: bool, depth: usize) -> Result<PlanarFace, ParseError> {
+    fn face(
+        &self,
+        id: u64,
+        from: (u64, &Instance),
+        outward: bool,
+        depth: usize,
+    ) -> Result<Vec<PlanarFace>, ParseError> {
         let f = self.get(id, from, "face")?;
         let (kind, args) = self.args(id, f, &["ADVANCED_FACE", "FACE_SURFACE", "ORIENTED_FACE"])?;
         if kind == "ORIENTED_FACE" {
@@ -730,10 +790,16 @@ impl Model {
         }
         let surface = self.reference(id, f, args.get(2), "surface")?;
         let same_sense = self.logical(id, f, args.get(3), "same_sense flag")?;
-        let normal = self.plane_normal(surface, (id, f))?;
         let Some(Value::List(bounds)) = args.get(1) else {
             return Err(self.bad(id, f, "its bounds are not a list"));
         };
+        if let Some(facet) = self.facet {
+            let s = self.get(surface, (id, f), "surface")?;
+            if s.part("CYLINDRICAL_SURFACE").is_some() || s.part("CONICAL_SURFACE").is_some() {
+                return self.round_face((id, f), (surface, s), bounds, outward == same_sense, facet);
+            }
+        }
+        let normal = self.plane_normal(surface, (id, f))?;
         let mut loops = Vec::with_capacity(bounds.len());
         let mut outer = None;
         for b in bounds {
@@ -746,13 +812,262 @@ impl Model {
             let l = self.reference(b, bi, bargs.get(1), "loop")?;
             loops.push(self.loop_points(l, (b, bi))?);
         }
-        Ok(PlanarFace {
+        Ok(vec![PlanarFace {
             normal: if outward == same_sense { normal } else { -normal },
             loops,
             outer,
             name: format!("face #{id}"),
             place: Place::Line(f.line),
+        }])
+    }
+
+    /// The sides of every faceted circle: the fewest (a power of two, at least 8) for
+    /// which the largest circle of the file strays at most `tolerance` mm from its
+    /// polygon (`r (1 - cos(π / n)) <= tolerance`).
+    fn circle_sides(&self, tolerance: f64) -> Result<usize, ParseError> {
+        let mut largest = 0.0_f64;
+        for (&id, instance) in &self.instances {
+            if instance.part("CIRCLE").is_some() {
+                largest = largest.max(self.circle(id, (id, instance))?.radius);
+            }
+        }
+        let mut sides = 8;
+        while largest * (1.0 - (std::f64::consts::PI / sides as f64).cos()) > tolerance {
+            sides *= 2;
+            if sides > MAX_SIDES {
+                return Err(ParseError::new(
+                    Place::Whole,
+                    format!(
+                        "a chord tolerance of {tolerance:e} mm needs more than {MAX_SIDES} sides for the circle of radius \
+                         {largest} mm"
+                    ),
+                    "give a larger --facet tolerance",
+                ));
+            }
+        }
+        Ok(sides)
+    }
+
+    /// A CIRCLE instance in millimetres.
+    fn circle(&self, id: u64, from: (u64, &Instance)) -> Result<Circle, ParseError> {
+        let c = self.get(id, from, "circle")?;
+        let (_, args) = self.args(id, c, &["CIRCLE"])?;
+        let placement = self.reference(id, c, args.get(1), "placement")?;
+        let radius = match args.get(2) {
+            Some(Value::Number(r)) if r.is_finite() && *r > 0.0 => r * self.to_mm,
+            _ => return Err(self.bad(id, c, "its radius is not a positive number")),
+        };
+        let (centre, axis, x) = self.placement(placement, (id, c))?;
+        Ok(Circle {
+            centre,
+            x,
+            y: axis.cross(x),
+            axis,
+            radius,
         })
+    }
+
+    /// An AXIS2_PLACEMENT_3D: origin (mm), unit axis, unit reference direction
+    /// perpendicular to it.
+    fn placement(&self, id: u64, from: (u64, &Instance)) -> Result<(DVec3, DVec3, DVec3), ParseError> {
+        let p = self.get(id, from, "placement")?;
+        let (_, args) = self.args(id, p, &["AXIS2_PLACEMENT_3D"])?;
+        let origin = self.point(self.reference(id, p, args.get(1), "location")?, (id, p))?;
+        let axis = match args.get(2) {
+            Some(Value::Ref(r)) => self.direction(*r, (id, p))?,
+            _ => DVec3::Z,
+        };
+        let reference = match args.get(3) {
+            Some(Value::Ref(r)) => self.direction(*r, (id, p))?,
+            _ => DVec3::X,
+        };
+        let axis = axis
+            .try_normalize()
+            .ok_or_else(|| self.bad(id, p, "its axis is zero"))?;
+        let x = reference
+            .reject_from_normalized(axis)
+            .try_normalize()
+            .or_else(|| axis.any_orthonormal_vector().try_normalize())
+            .ok_or_else(|| self.bad(id, p, "its reference direction is zero"))?;
+        Ok((origin, axis, x))
+    }
+
+    /// The circle an edge curve is, through surface, seam and trimmed curves; `None`
+    /// for any other curve.
+    fn circle_of(&self, id: u64, from: (u64, &Instance), depth: usize) -> Result<Option<Circle>, ParseError> {
+        let c = self.get(id, from, "curve")?;
+        if c.part("CIRCLE").is_some() {
+            return self.circle(id, from).map(Some);
+        }
+        for wrapper in ["SURFACE_CURVE", "SEAM_CURVE", "TRIMMED_CURVE"] {
+            if let Some(args) = c.part(wrapper)
+                && depth < 4
+            {
+                let inner = self.reference(id, c, args.get(1), "curve")?;
+                return self.circle_of(inner, (id, c), depth + 1);
+            }
+        }
+        Ok(None)
+    }
+
+    /// The points of a faceted circular edge from `start` to `end` (both included):
+    /// a full circle (`start` = `end`) is the polygon of `sides` corners from `start`,
+    /// counter-clockwise about the axis; an arc takes the corners of the circle's own
+    /// polygon (from its reference direction) that lie on it. `ccw` is the edge's
+    /// direction about the axis (the circle's, unless the edge's sense flag is false).
+    fn arc_points(circle: &Circle, start: DVec3, end: DVec3, ccw: bool, sides: usize, full: bool) -> Vec<DVec3> {
+        use std::f64::consts::TAU;
+        let step = TAU / sides as f64;
+        if full {
+            let a0 = circle.angle(start);
+            let mut points: Vec<DVec3> = (0..sides).map(|k| circle.at(a0 + step * k as f64)).collect();
+            points[0] = start;
+            points.push(start);
+            if !ccw {
+                points.reverse();
+            }
+            return points;
+        }
+        // Walk counter-clockwise from the arc's first point to its last.
+        let (from, to) = if ccw { (start, end) } else { (end, start) };
+        let (a, mut b) = (circle.angle(from), circle.angle(to));
+        if b <= a {
+            b += TAU;
+        }
+        let mut points = vec![from];
+        let first = (a / step).floor() as i64 + 1;
+        let mut k = first;
+        loop {
+            let angle = step * k as f64;
+            if angle >= b - 1e-12 || points.len() > sides + 1 {
+                break;
+            }
+            points.push(circle.at(angle));
+            k += 1;
+        }
+        points.push(to);
+        if !ccw {
+            points.reverse();
+        }
+        points
+    }
+
+    /// A cylindrical or conical face made planar facets: the band of quadrilaterals
+    /// between the polygons of the two full circles that bound it (its seam edges are
+    /// dropped). `outward` says whether the face's normal is the surface's (away from
+    /// the axis).
+    fn round_face(
+        &self,
+        (id, f): (u64, &Instance),
+        (surface_id, surface): (u64, &Instance),
+        bounds: &[Value],
+        outward: bool,
+        facet: Facet,
+    ) -> Result<Vec<PlanarFace>, ParseError> {
+        let kind = surface.type_name();
+        let refuse = |why: &str| {
+            ParseError::new(
+                Place::Line(f.line),
+                format!("face #{id} on #{surface_id} {kind}: {why}"),
+                format!(
+                    "--facet makes planar facets of a whole cylinder or cone between two circles only; {EXPORT_HINT}"
+                ),
+            )
+        };
+        let args = surface
+            .part("CYLINDRICAL_SURFACE")
+            .or_else(|| surface.part("CONICAL_SURFACE"))
+            .unwrap_or_default();
+        let placement = self.reference(surface_id, surface, args.get(1), "placement")?;
+        let (origin, axis, _) = self.placement(placement, (surface_id, surface))?;
+        // The full circles among the face's edges.
+        let mut circles: Vec<(Circle, DVec3)> = Vec::new();
+        for b in bounds {
+            let b = self.reference(id, f, Some(b), "bound")?;
+            let bi = self.get(b, (id, f), "bound")?;
+            let (_, bargs) = self.args(b, bi, &["FACE_OUTER_BOUND", "FACE_BOUND"])?;
+            let l = self.reference(b, bi, bargs.get(1), "loop")?;
+            let li = self.get(l, (b, bi), "loop")?;
+            let (_, largs) = self.args(l, li, &["EDGE_LOOP"])?;
+            let Some(Value::List(items)) = largs.get(1) else {
+                return Err(self.bad(l, li, "its edges are not a list"));
+            };
+            for item in items {
+                let oe = self.reference(l, li, Some(item), "oriented edge")?;
+                let o = self.get(oe, (l, li), "oriented edge")?;
+                let (_, oargs) = self.args(oe, o, &["ORIENTED_EDGE"])?;
+                let edge = self.reference(oe, o, oargs.get(3), "edge element")?;
+                let e = self.get(edge, (oe, o), "edge")?;
+                let (_, eargs) = self.args(edge, e, &["EDGE_CURVE"])?;
+                let start = self.vertex(self.reference(edge, e, eargs.get(1), "start vertex")?, (edge, e))?;
+                let end = self.vertex(self.reference(edge, e, eargs.get(2), "end vertex")?, (edge, e))?;
+                let curve = self.reference(edge, e, eargs.get(3), "curve")?;
+                match self.circle_of(curve, (edge, e), 0)? {
+                    Some(circle) if start.distance(end) <= 1e-9 * circle.radius.max(1.0) => {
+                        circles.push((circle, start));
+                    }
+                    Some(_) => return Err(refuse("it is bounded by an arc, not a whole circle")),
+                    None => {
+                        // A seam: a straight edge along the surface (dropped).
+                        self.check_line(curve, (edge, e), 0)?;
+                    }
+                }
+            }
+        }
+        let [(a, a_start), (b, b_start)] = circles.as_slice() else {
+            return Err(refuse(&format!(
+                "it is bounded by {} whole circles, not two",
+                circles.len()
+            )));
+        };
+        let sides = facet.sides;
+        let ring = |c: &Circle, start: DVec3| Self::arc_points(c, start, start, true, sides, true);
+        let mut ring_a = ring(a, *a_start);
+        let mut ring_b = ring(b, *b_start);
+        ring_a.pop();
+        ring_b.pop();
+        // Both rings counter-clockwise about the surface's axis.
+        if a.axis.dot(axis) < 0.0 {
+            ring_a[1..].reverse();
+        }
+        if b.axis.dot(axis) < 0.0 {
+            ring_b[1..].reverse();
+        }
+        // Corner k of each ring must lie on the same line through the axis.
+        let about = |p: DVec3| {
+            let d = (p - origin).reject_from_normalized(axis);
+            d.try_normalize().unwrap_or(DVec3::ZERO)
+        };
+        for (p, q) in ring_a.iter().zip(&ring_b) {
+            if about(*p).distance(about(*q)) > 1e-6 {
+                return Err(refuse(
+                    "its two circles do not start at the same angle about the axis (their seam is not straight)",
+                ));
+            }
+        }
+        let mut facets = Vec::with_capacity(sides);
+        for k in 0..sides {
+            let n = (k + 1) % sides;
+            let quad = vec![ring_a[k], ring_a[n], ring_b[n], ring_b[k]];
+            let mut normal = newell(&quad);
+            let centre = quad.iter().copied().sum::<DVec3>() / 4.0;
+            if normal.dot((centre - origin).reject_from_normalized(axis)) < 0.0 {
+                normal = -normal;
+            }
+            // A cone's apex ring has no area: no facet there.
+            let scale = a.radius.max(b.radius);
+            if normal.length() <= 1e-12 * scale * scale {
+                continue;
+            }
+            facets.push(PlanarFace {
+                normal: if outward { normal } else { -normal },
+                loops: vec![quad],
+                outer: Some(0),
+                name: format!("facet {k} of face #{id}"),
+                place: Place::Line(f.line),
+            });
+        }
+        Ok(facets)
     }
 
     fn plane_normal(&self, id: u64, from: (u64, &Instance)) -> Result<DVec3, ParseError> {
@@ -860,7 +1175,10 @@ impl Model {
         }
         let mut points = Vec::with_capacity(items.len());
         let mut ends = Vec::with_capacity(items.len());
+        // Where each edge's points begin in `points`.
+        let mut starts = Vec::with_capacity(items.len());
         for item in items {
+            starts.push(points.len());
             let oe = self.reference(id, l, Some(item), "oriented edge")?;
             let o = self.get(oe, (id, l), "oriented edge")?;
             let (_, oargs) = self.args(oe, o, &["ORIENTED_EDGE"])?;
@@ -871,16 +1189,32 @@ impl Model {
             let start = self.vertex(self.reference(edge, e, eargs.get(1), "start vertex")?, (edge, e))?;
             let end = self.vertex(self.reference(edge, e, eargs.get(2), "end vertex")?, (edge, e))?;
             let curve = self.reference(edge, e, eargs.get(3), "curve")?;
-            self.check_line(curve, (edge, e), 0)?;
-            let (a, b) = if forward { (start, end) } else { (end, start) };
-            points.push(a);
+            let circle = match self.facet {
+                Some(_) => self.circle_of(curve, (edge, e), 0)?,
+                None => None,
+            };
+            let mut chain = match (circle, self.facet) {
+                (Some(circle), Some(facet)) => {
+                    let sense = !matches!(eargs.get(4), Some(Value::Enum(v)) if v == "F");
+                    let full = start.distance(end) <= 1e-9 * circle.radius.max(1.0);
+                    Self::arc_points(&circle, start, end, sense, facet.sides, full)
+                }
+                _ => {
+                    self.check_line(curve, (edge, e), 0)?;
+                    vec![start, end]
+                }
+            };
+            if !forward {
+                chain.reverse();
+            }
+            let b = chain.pop().unwrap_or(end);
+            points.extend(chain);
             ends.push((oe, o, b));
         }
         // The oriented edges must join head to tail.
-        let n = points.len();
         let size = points.iter().map(|p| p.abs().max_element()).fold(1.0, f64::max);
         for (k, (oe, o, end)) in ends.iter().enumerate() {
-            let next = points[(k + 1) % n];
+            let next = starts.get(k + 1).or(starts.first()).map_or(*end, |&i| points[i]);
             if end.distance(next) > 1e-7 * size {
                 return Err(ParseError::new(
                     Place::Line(o.line),

@@ -121,7 +121,24 @@ impl Part {
     /// # Errors
     /// [`ModelError`] naming the file, the place and the fix.
     pub fn from_path_in(path: &Path, unit: Option<LengthUnit>) -> Result<(Part, Format), ModelError> {
-        let (mut soup, format) = crate::io::read_path_as(path)?;
+        Part::from_path_with(path, unit, None)
+    }
+
+    /// [`Part::from_path_in`], with STEP cylinders, cones and circles read as planar
+    /// facets within the chord tolerance `facet` (in `unit`, millimetres when `None`;
+    /// see [`crate::io::step::read_faceted`]).
+    ///
+    /// # Errors
+    /// [`ModelError`] naming the file, the place and the fix.
+    pub fn from_path_with(
+        path: &Path,
+        unit: Option<LengthUnit>,
+        facet: Option<f64>,
+    ) -> Result<(Part, Format), ModelError> {
+        let options = crate::io::ReadOptions {
+            facet_mm: facet.map(|f| f * unit.map_or(1.0, LengthUnit::millimetres)),
+        };
+        let (mut soup, format) = crate::io::read_path_with(path, &options)?;
         if let Some(unit) = unit.filter(|u| format.is_cad() && *u != LengthUnit::Mm) {
             let scale = 1.0 / unit.millimetres();
             for p in &mut soup.positions {
