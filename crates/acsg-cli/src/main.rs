@@ -392,6 +392,32 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// One progress bar for a whole run: stage 1 and each stage-2 level report their own
+/// searches done and planned; the bar adds each finished batch to what came before, so
+/// it never restarts (its length grows as levels are planned, and the ETA is for the
+/// searches planned so far).
+#[derive(Debug, Default)]
+struct RunProgress {
+    /// Searches of the finished batches.
+    base: u64,
+    /// The last report: stage, done, planned.
+    last: Option<(u8, usize, usize)>,
+}
+
+impl RunProgress {
+    /// The bar's position and length after a report.
+    fn update(&mut self, p: &Progress) -> (u64, u64) {
+        if let Some((stage, done, total)) = self.last {
+            let new_batch = stage != p.stage || done >= total || p.done < done || p.total != total;
+            if new_batch {
+                self.base += total as u64;
+            }
+        }
+        self.last = Some((p.stage, p.done, p.total));
+        (self.base + p.done as u64, self.base + p.total as u64)
+    }
+}
+
 /// The label of a run's lengths: the unit given, else `mm` when every part is a CAD
 /// file (read in millimetres), else "model units".
 fn units_label(unit: Option<acsg::units::LengthUnit>, formats: &[Option<acsg::io::Format>]) -> String {
@@ -440,16 +466,24 @@ fn generate_and_write(
     let bar = (!flags.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = indicatif::ProgressBar::new(0);
         bar.set_style(
-            indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} searches, {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template(
+                // The length grows as stage-2 levels are planned: the ETA is a lower bound.
+                "{prefix} {elapsed:>4} [{bar:20}] {pos}/{len} searches, {msg}, ETA ≥ {eta}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         bar
     });
+    let tally = std::sync::Mutex::new(RunProgress::default());
     let progress = |p: Progress| {
         if let Some(bar) = &bar {
+            let (position, length) = match tally.lock() {
+                Ok(mut tally) => tally.update(&p),
+                Err(_) => return,
+            };
             bar.set_prefix(format!("stage {}", p.stage));
-            bar.set_length(p.total as u64);
-            bar.set_position(p.done as u64);
+            bar.set_length(length);
+            bar.set_position(position);
             bar.set_message(format!("{} states", p.states));
         }
     };
@@ -818,6 +852,42 @@ fn describe(part: &Part, element: ElementId, placement: &DAffine3) -> String {
                 n.z,
                 corners.join(" ")
             )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(stage: u8, done: usize, total: usize) -> Progress {
+        Progress {
+            stage,
+            done,
+            total,
+            states: 0,
+        }
+    }
+
+    /// Stage 1 (10 searches), then two stage-2 levels (4, then 6): one bar whose
+    /// position never goes back and whose length is the sum planned so far.
+    #[test]
+    fn the_progress_bar_runs_once_through_all_levels() {
+        let mut tally = RunProgress::default();
+        let reports = [
+            (report(1, 5, 10), (5, 10)),
+            (report(1, 10, 10), (10, 10)),
+            (report(2, 2, 4), (12, 14)),
+            (report(2, 4, 4), (14, 14)),
+            (report(2, 3, 6), (17, 20)),
+            (report(2, 6, 6), (20, 20)),
+        ];
+        let mut last = 0;
+        for (p, expected) in reports {
+            let got = tally.update(&p);
+            assert_eq!(got, expected, "{p:?}");
+            assert!(got.0 >= last);
+            last = got.0;
         }
     }
 }
