@@ -29,10 +29,12 @@ enum Command {
     /// Show a part's B-rep (faces, edges, vertices, convexity, convex pieces); with a
     /// second part, card(PPC) of the pair (first fixed, second moving).
     Inspect {
-        /// The fixed part (OFF, OBJ, STL, PLY, or STEP/IGES with planar faces, read in mm).
+        /// The fixed part (OFF, OBJ, STL, PLY, or STEP/IGES with planar faces).
         fixed: PathBuf,
         /// The moving part.
         moving: Option<PathBuf>,
+        #[command(flatten)]
+        units: UnitsFlag,
         /// Print one JSON object instead of text.
         #[arg(long)]
         json: bool,
@@ -45,15 +47,21 @@ enum Command {
         /// The moving part B.
         moving: PathBuf,
         /// The pose X = x,y,z,rx,ry,rz: p_A = G (R p_B + t), R = Rz(rz) Ry(ry) Rx(rx);
-        /// angles in radians unless --degrees.
+        /// angles in degrees (within ±180) unless --radians.
         #[arg(long, allow_hyphen_values = true)]
         pose: String,
         /// The assembled pose G of B in A's frame, in the same form (default: identity).
         #[arg(long, allow_hyphen_values = true)]
         assembled: Option<String>,
-        /// Read the angles of --pose and --assembled in degrees.
-        #[arg(long)]
+        /// Read the angles of --pose and --assembled in radians (within ±π), as the
+        /// graph's JSON writes witnesses.
+        #[arg(long, conflicts_with = "degrees")]
+        radians: bool,
+        /// Angles in degrees: the default, accepted for old scripts.
+        #[arg(long, hide = true)]
         degrees: bool,
+        #[command(flatten)]
+        units: UnitsFlag,
         /// Contact tolerance relative to L, the larger bounding-box diagonal.
         #[arg(long, default_value_t = acsg::tolerance::CONTACT_REL, allow_hyphen_values = true)]
         tol: f64,
@@ -76,14 +84,24 @@ enum Command {
         #[arg(long, allow_hyphen_values = true)]
         assembled: Option<String>,
         #[command(flatten)]
+        units: UnitsFlag,
+        #[command(flatten)]
         run: RunFlags,
     },
-    /// Generate the graph described by a task file (TOML: `fixed`, `moving`, a
-    /// `[bounds]` table with x, y, z, rx, ry, rz as [min, max] in model units and
-    /// degrees, an optional `[options]` table with degenerate, threads, assembled).
+    /// Generate the graph described by a task file (TOML: `fixed`, `moving`, an
+    /// optional `units` (mm, cm, m, in), a `[bounds]` table with x, y, z, rx, ry, rz as
+    /// [min, max] in those units and degrees, an optional `[options]` table with
+    /// degenerate, threads, effort, assembled).
     Run {
         /// The task file.
         task: PathBuf,
+        /// The length unit, overriding the task file's `units` key.
+        #[arg(long, value_name = "UNIT")]
+        units: Option<acsg::units::LengthUnit>,
+        /// Read STEP cylinders, cones and circles as planar facets within this chord
+        /// tolerance (as `generate --facet`).
+        #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+        facet: Option<f64>,
         #[command(flatten)]
         run: RunFlags,
     },
@@ -125,6 +143,40 @@ enum ExportFormat {
     Graphml,
 }
 
+/// The length unit of a run.
+#[derive(clap::Args)]
+struct UnitsFlag {
+    /// The length unit of the run: mm, cm, m or in. A mesh's numbers are taken to be in
+    /// it (a mesh has no unit); a STEP or IGES part is converted to it (to mm when this
+    /// is not given). Bounds and every length printed are in it.
+    #[arg(long, value_name = "UNIT")]
+    units: Option<acsg::units::LengthUnit>,
+    /// Read STEP cylinders, cones and circles as planar facets: every circle becomes
+    /// an inscribed polygon straying at most this far (in the run's unit) from it, the
+    /// same number of sides for every circle of a file. The graph is then that of the
+    /// faceted parts.
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    facet: Option<f64>,
+}
+
+impl UnitsFlag {
+    /// The chord tolerance, checked.
+    fn facet(&self) -> anyhow::Result<Option<f64>> {
+        check_facet(self.facet)
+    }
+}
+
+/// A `--facet` tolerance must be a positive finite length.
+fn check_facet(facet: Option<f64>) -> anyhow::Result<Option<f64>> {
+    match facet {
+        Some(f) if !(f.is_finite() && f > 0.0) => Err(UsageError(format!(
+            "invalid --facet: {f} (give the chord tolerance as a positive length, e.g. --facet 0.05)"
+        ))
+        .into()),
+        other => Ok(other),
+    }
+}
+
 /// Options shared by the commands that generate a graph.
 #[derive(clap::Args)]
 struct RunFlags {
@@ -140,7 +192,8 @@ struct RunFlags {
     /// elements).
     #[arg(long)]
     degenerate: bool,
-    /// Worker threads (0: one per core). The output does not depend on it.
+    /// Worker threads (0: one per core; at most four per core, or 256). The output does
+    /// not depend on it.
     #[arg(long)]
     threads: Option<usize>,
     /// How hard to search and prove each candidate state before leaving it undecided:
@@ -203,24 +256,36 @@ fn is_broken_pipe(err: &anyhow::Error) -> bool {
 
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Inspect { fixed, moving, json } => {
-            let fixed = Part::from_path(&fixed)?;
-            let moving = moving.map(|m| Part::from_path(&m)).transpose()?;
-            print_inspection(&Inspection::of(&fixed, moving.as_ref()), json)
+        Command::Inspect {
+            fixed,
+            moving,
+            units,
+            json,
+        } => {
+            let (unit, facet) = (units.units, units.facet()?);
+            let (fixed, fixed_format) = Part::from_path_with(&fixed, unit, facet)?;
+            let moving = moving.map(|m| Part::from_path_with(&m, unit, facet)).transpose()?;
+            let formats = [Some(fixed_format), moving.as_ref().map(|m| m.1)];
+            let mut report = Inspection::of(&fixed, moving.as_ref().map(|m| &m.0));
+            report.units = units_label(unit, &formats);
+            report.facet = facet;
+            print_inspection(&report, json)
         }
         Command::Contacts {
             fixed,
             moving,
             pose,
             assembled,
-            degrees,
+            radians,
+            degrees: _,
+            units,
             tol,
             json,
         } => {
             let usage = |what: &str, e: &dyn std::fmt::Display| UsageError(format!("invalid {what}: {e}"));
-            let pose = Pose::parse(&pose, degrees).map_err(|e| usage("--pose", &e))?;
+            let pose = Pose::parse_checked(&pose, !radians).map_err(|e| usage("--pose", &e))?;
             let assembled = match assembled {
-                Some(text) => Pose::parse(&text, degrees).map_err(|e| usage("--assembled", &e))?,
+                Some(text) => Pose::parse_checked(&text, !radians).map_err(|e| usage("--assembled", &e))?,
                 None => Pose::IDENTITY,
             };
             if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
@@ -229,49 +294,78 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 ))
                 .into());
             }
-            let fixed = Part::from_path(&fixed)?;
-            let moving = Part::from_path(&moving)?;
+            let (unit, facet) = (units.units, units.facet()?);
+            let (fixed, fixed_format) = Part::from_path_with(&fixed, unit, facet)?;
+            let (moving, moving_format) = Part::from_path_with(&moving, unit, facet)?;
+            let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let g = assembled.to_affine(&DAffine3::IDENTITY);
             let placement = pose.to_affine(&g);
             let report = ContactScene::new(&fixed, &moving).evaluate(&placement, tol);
-            print_contacts(&fixed, &moving, &pose, &g, &report, tol, json)
+            let shown = Shown { tol, json, length };
+            print_contacts(&fixed, &moving, &pose, &g, &report, &shown)
         }
         Command::Generate {
             fixed,
             moving,
             bounds,
             assembled,
+            units,
             run,
         } => {
             let bounds = acsg::task::bounds_from_spec(&bounds).map_err(|e| UsageError(e.to_string()))?;
             let mut options = Options::default();
             if let Some(text) = assembled {
-                let g = Pose::parse(&text, true).map_err(|e| UsageError(format!("invalid --assembled: {e}")))?;
+                let g =
+                    Pose::parse_checked(&text, true).map_err(|e| UsageError(format!("invalid --assembled: {e}")))?;
                 options.assembled = g.to_affine(&DAffine3::IDENTITY);
             }
             let names = [fixed.display().to_string(), moving.display().to_string()];
-            let parts = (Part::from_path(&fixed)?, Part::from_path(&moving)?);
-            generate_and_write(parts, names, bounds, options, run, None)
+            let (unit, facet) = (units.units, units.facet()?);
+            let (fixed, fixed_format) = Part::from_path_with(&fixed, unit, facet)?;
+            let (moving, moving_format) = Part::from_path_with(&moving, unit, facet)?;
+            let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
+            let job = Job {
+                names,
+                bounds,
+                options,
+                length,
+                facet,
+            };
+            generate_and_write((fixed, moving), job, run, None)
         }
-        Command::Run { task, run } => {
+        Command::Run {
+            task,
+            units,
+            facet,
+            run,
+        } => {
             let job = Task::from_path(&task)?;
-            let parts = (Part::from_path(&job.fixed)?, Part::from_path(&job.moving)?);
+            let unit = units.or(job.units);
+            let facet = check_facet(facet.or(job.facet))?;
+            let (fixed, fixed_format) = Part::from_path_with(&job.fixed, unit, facet)?;
+            let (moving, moving_format) = Part::from_path_with(&job.moving, unit, facet)?;
+            let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let default_output = task.with_extension("graph.json");
-            generate_and_write(
-                parts,
-                [job.fixed_given, job.moving_given],
-                job.bounds,
-                job.options,
-                run,
-                Some(default_output),
-            )
+            let run_job = Job {
+                names: [job.fixed_given, job.moving_given],
+                bounds: job.bounds,
+                options: job.options,
+                length,
+                facet,
+            };
+            generate_and_write((fixed, moving), run_job, run, Some(default_output))
         }
         Command::Demo { run } => {
             let parts = acsg::examples::l_block_and_box();
-            let names = ["builtin:l_block.off".to_string(), "builtin:box.off".to_string()];
-            let bounds = acsg::examples::paper_bounds();
+            let job = Job {
+                names: ["builtin:l_block.off".to_string(), "builtin:box.off".to_string()],
+                bounds: acsg::examples::paper_bounds(),
+                options: Options::default(),
+                length: acsg::units::LengthUnit::Mm.symbol().to_string(),
+                facet: None,
+            };
             let output = Some(PathBuf::from("acsg-demo.graph.json"));
-            generate_and_write(parts, names, bounds, Options::default(), run, output)
+            generate_and_write(parts, job, run, output)
         }
         Command::Report { graph, output } => {
             let file = GraphFile::from_path(&graph)?;
@@ -298,18 +392,72 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// One progress bar for a whole run: stage 1 and each stage-2 level report their own
+/// searches done and planned; the bar adds each finished batch to what came before, so
+/// it never restarts (its length grows as levels are planned, and the ETA is for the
+/// searches planned so far).
+#[derive(Debug, Default)]
+struct RunProgress {
+    /// Searches of the finished batches.
+    base: u64,
+    /// The last report: stage, done, planned.
+    last: Option<(u8, usize, usize)>,
+}
+
+impl RunProgress {
+    /// The bar's position and length after a report.
+    fn update(&mut self, p: &Progress) -> (u64, u64) {
+        if let Some((stage, done, total)) = self.last {
+            let new_batch = stage != p.stage || done >= total || p.done < done || p.total != total;
+            if new_batch {
+                self.base += total as u64;
+            }
+        }
+        self.last = Some((p.stage, p.done, p.total));
+        (self.base + p.done as u64, self.base + p.total as u64)
+    }
+}
+
+/// The label of a run's lengths: the unit given, else `mm` when every part is a CAD
+/// file (read in millimetres), else "model units".
+fn units_label(unit: Option<acsg::units::LengthUnit>, formats: &[Option<acsg::io::Format>]) -> String {
+    match unit {
+        Some(unit) => unit.symbol().to_string(),
+        None if formats.iter().flatten().all(|f| f.is_cad()) => acsg::units::LengthUnit::Mm.symbol().to_string(),
+        None => acsg::units::UNSPECIFIED.to_string(),
+    }
+}
+
+/// What a run is about, apart from its parts and flags.
+struct Job {
+    /// The parts' paths as the user gave them.
+    names: [String; 2],
+    bounds: Bounds,
+    options: Options,
+    /// The label of lengths (`mm`, ..., or "model units").
+    length: String,
+    /// The chord tolerance STEP curved faces were faceted with, if any.
+    facet: Option<f64>,
+}
+
 /// Generates a graph, prints its summary and writes its JSON (to `flags.output`, else
 /// `default_output`, else stdout).
 fn generate_and_write(
     (fixed, moving): (Part, Part),
-    names: [String; 2],
-    bounds: Bounds,
-    mut options: Options,
+    job: Job,
     flags: RunFlags,
     default_output: Option<PathBuf>,
 ) -> anyhow::Result<()> {
+    let Job {
+        names,
+        bounds,
+        mut options,
+        length,
+        facet,
+    } = job;
     options.degenerate |= flags.degenerate;
     if let Some(threads) = flags.threads {
+        acsg::task::check_threads(threads).map_err(|m| UsageError(format!("invalid --threads: {m}")))?;
         options.threads = threads;
     }
     if let Some(effort) = flags.effort {
@@ -318,16 +466,24 @@ fn generate_and_write(
     let bar = (!flags.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = indicatif::ProgressBar::new(0);
         bar.set_style(
-            indicatif::ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} searches, {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            indicatif::ProgressStyle::with_template(
+                // The length grows as stage-2 levels are planned: the ETA is a lower bound.
+                "{prefix} {elapsed:>4} [{bar:20}] {pos}/{len} searches, {msg}, ETA ≥ {eta}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         bar
     });
+    let tally = std::sync::Mutex::new(RunProgress::default());
     let progress = |p: Progress| {
         if let Some(bar) = &bar {
+            let (position, length) = match tally.lock() {
+                Ok(mut tally) => tally.update(&p),
+                Err(_) => return,
+            };
             bar.set_prefix(format!("stage {}", p.stage));
-            bar.set_length(p.total as u64);
-            bar.set_position(p.done as u64);
+            bar.set_length(length);
+            bar.set_position(position);
             bar.set_message(format!("{} states", p.states));
         }
     };
@@ -339,13 +495,24 @@ fn generate_and_write(
         graph.stats.stage1_seconds = 0.0;
         graph.stats.stage2_seconds = 0.0;
     }
-    let document = Document::new(&graph, &fixed, &moving, &bounds, &options, [&names[0], &names[1]]);
+    let mut document = Document::new(&graph, &fixed, &moving, &bounds, &options, [&names[0], &names[1]]);
+    document.units.length.clone_from(&length);
+    document.facet = facet;
     let json = document.to_json();
     let output = flags.output.or(default_output);
     // Results first, messages after: a closed stdout must not cost a result file.
     let mut messages = String::new();
     if !flags.quiet {
-        messages.push_str(&summary(&graph, &names, &bounds));
+        messages.push_str(&summary(&graph, &names, &bounds, &length));
+        if let Some(f) = facet {
+            messages.insert_str(
+                0,
+                &format!(
+                    "facets STEP cylinders, cones and circles read as planar facets (chord tolerance {f} {length}): \
+                     the graph is of the faceted parts\n"
+                ),
+            );
+        }
     }
     match &output {
         Some(path) => {
@@ -372,11 +539,15 @@ fn generate_and_write(
 }
 
 /// The run summary: parts, bounds, stages, and states by number of contacts and DOF.
-fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
+fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds, length: &str) -> String {
     use std::fmt::Write as _;
     let s = &graph.stats;
     let mut out = String::new();
     let _ = writeln!(out, "fixed  {}\nmoving {}", names[0], names[1]);
+    let _ = writeln!(
+        out,
+        "units  lengths in {length}, angles in degrees (radians in the JSON)"
+    );
     let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
     let ranges: Vec<String> = ["x", "y", "z", "rx", "ry", "rz"]
         .iter()
@@ -396,23 +567,58 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds) -> String {
          {} feasible, {:.3} s",
         s.ppc, s.ppc_unreachable, s.stage1_searched, s.stage1_optimisations, s.feasible_ppc, s.stage1_seconds
     );
+    // A pair gives one outcome per case of the mapping rules, and each outcome is
+    // counted once: the counts below add up to more than the pairs.
     let _ = writeln!(
         out,
-        "stage 2  {} pairs: {} implied, {} topology, {} degenerate, {} duplicate, {} ruled out without optimising; \
-         {} candidates, {} searched by optimisation ({} local runs, {} below known states), \
-         {} found on the way, {:.3} s",
-        s.stage2_pairs,
-        s.pruned_implied,
-        s.pruned_topology,
-        s.pruned_degenerate,
-        s.pruned_duplicate,
-        s.pruned_unreachable,
-        s.stage2_candidates,
-        s.stage2_searched,
-        s.stage2_optimisations,
-        s.descents,
-        s.found_on_the_way,
-        s.stage2_seconds
+        "stage 2  {} pairs (a known state and a single contact to add); each pair gives one outcome per case \
+         of the mapping rules, so the counts below add up to more than the pairs:",
+        s.stage2_pairs
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} implied (the state already holds the contact, or an outcome is the state itself)",
+        s.pruned_implied
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} pairs with no outcome (ruled out by topological existence)",
+        s.pruned_topology
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} outcomes left out as degenerate (keep them with --degenerate)",
+        s.pruned_degenerate
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} outcomes already known or already proposed",
+        s.pruned_duplicate
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} new candidates, each decided:",
+        s.stage2_candidates
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} ruled out without optimising (sound exclusion tests)",
+        s.pruned_unreachable
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} searched by optimisation ({} local runs; descents included)",
+        s.stage2_searched, s.stage2_optimisations
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} descents (searches one contact below a known state, from its witness)",
+        s.descents
+    );
+    let _ = writeln!(
+        out,
+        "           {:>8} states found while searching for another, {} found by descents; {:.3} s",
+        s.found_on_the_way, s.found_by_descent, s.stage2_seconds
     );
     let _ = writeln!(
         out,
@@ -452,6 +658,15 @@ fn print_inspection(report: &Inspection, json: bool) -> anyhow::Result<()> {
         serde_json::to_writer_pretty(&mut out, report).context("writing JSON")?;
         writeln!(out)?;
         return Ok(());
+    }
+    writeln!(out, "units  {} (lengths, volumes in cubic {0})", report.units)?;
+    if let Some(f) = report.facet {
+        writeln!(
+            out,
+            "facets STEP cylinders, cones and circles read as planar facets (chord tolerance {f} {}): the counts \
+             are of the faceted parts",
+            report.units
+        )?;
     }
     for (i, p) in report.parts.iter().enumerate() {
         let role = match (i, report.parts.len()) {
@@ -500,6 +715,7 @@ fn print_inspection(report: &Inspection, json: bool) -> anyhow::Result<()> {
 #[derive(serde::Serialize)]
 struct ContactsDocument<'a> {
     convention: &'static str,
+    units: acsg::graph::document::Units,
     pose: [f64; 6],
     matrix: [[f64; 4]; 4],
     tolerance: f64,
@@ -515,15 +731,26 @@ struct PartsDocument<'a> {
     moving: &'a PartElements,
 }
 
+/// How `acsg contacts` prints.
+struct Shown {
+    /// The relative contact tolerance used.
+    tol: f64,
+    /// JSON instead of text.
+    json: bool,
+    /// The label of lengths.
+    length: String,
+}
+
 fn print_contacts(
     fixed: &Part,
     moving: &Part,
     pose: &Pose,
     assembled: &DAffine3,
     report: &ContactReport,
-    tol: f64,
-    json: bool,
+    shown: &Shown,
 ) -> anyhow::Result<()> {
+    let Shown { tol, json, length } = shown;
+    let (tol, json) = (*tol, *json);
     let records: Vec<ContactRecord> = report
         .contacts
         .iter()
@@ -533,6 +760,10 @@ fn print_contacts(
     if json {
         let doc = ContactsDocument {
             convention: acsg::pose::CONVENTION,
+            units: acsg::graph::document::Units {
+                length: length.clone(),
+                angle: "radians".into(),
+            },
             pose: pose.to_array(),
             matrix: pose.matrix(assembled),
             tolerance: tol,
@@ -550,7 +781,14 @@ fn print_contacts(
     }
     let placement = pose.to_affine(assembled);
     let [x, y, z, rx, ry, rz] = pose.to_array();
-    writeln!(out, "pose         x={x} y={y} z={z} rx={rx} ry={ry} rz={rz} (radians)")?;
+    let deg = |a: f64| a.to_degrees();
+    writeln!(
+        out,
+        "pose         x={x} y={y} z={z} ({length}) rx={}° ry={}° rz={}°",
+        deg(rx),
+        deg(ry),
+        deg(rz)
+    )?;
     writeln!(
         out,
         "contacts     {} (coordinates in the fixed part's frame)",
@@ -614,6 +852,42 @@ fn describe(part: &Part, element: ElementId, placement: &DAffine3) -> String {
                 n.z,
                 corners.join(" ")
             )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(stage: u8, done: usize, total: usize) -> Progress {
+        Progress {
+            stage,
+            done,
+            total,
+            states: 0,
+        }
+    }
+
+    /// Stage 1 (10 searches), then two stage-2 levels (4, then 6): one bar whose
+    /// position never goes back and whose length is the sum planned so far.
+    #[test]
+    fn the_progress_bar_runs_once_through_all_levels() {
+        let mut tally = RunProgress::default();
+        let reports = [
+            (report(1, 5, 10), (5, 10)),
+            (report(1, 10, 10), (10, 10)),
+            (report(2, 2, 4), (12, 14)),
+            (report(2, 4, 4), (14, 14)),
+            (report(2, 3, 6), (17, 20)),
+            (report(2, 6, 6), (20, 20)),
+        ];
+        let mut last = 0;
+        for (p, expected) in reports {
+            let got = tally.update(&p);
+            assert_eq!(got, expected, "{p:?}");
+            assert!(got.0 >= last);
+            last = got.0;
         }
     }
 }

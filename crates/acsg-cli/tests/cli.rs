@@ -571,3 +571,699 @@ fn generate_takes_cad_parts_and_matches_the_mesh_run() {
     assert!(!mesh.as_array().unwrap().is_empty());
     assert_eq!(run("cad/block_with_hole.step", "cad/peg.igs"), mesh);
 }
+
+/// `contacts --pose` reads degrees, like every other flag; `--radians` reads radians.
+/// A quarter turn about z puts the rotation's first row at (0, -1, 0), whichever way
+/// it is written, and the JSON keeps radians.
+#[test]
+fn contacts_pose_angles_are_degrees_unless_radians() {
+    let run = |args: &[&str]| {
+        let out = acsg()
+            .args(["contacts", "--json"])
+            .args(args)
+            .arg(fixture("cube.off"))
+            .arg(fixture("cube.off"))
+            .args(["--assembled", "0,0,100,0,0,0"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let degrees = run(&["--pose", "0,0,0,0,0,90"]);
+    let radians = run(&[
+        "--radians",
+        "--pose",
+        &format!("0,0,0,0,0,{}", std::f64::consts::FRAC_PI_2),
+    ]);
+    for v in [&degrees, &radians] {
+        assert!((v["pose"][5].as_f64().unwrap() - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        let row: Vec<f64> = (0..3).map(|j| v["matrix"][0][j].as_f64().unwrap()).collect();
+        assert!(
+            row[0].abs() < 1e-12 && (row[1] + 1.0).abs() < 1e-12 && row[2].abs() < 1e-12,
+            "{row:?}"
+        );
+        assert_eq!(v["units"]["angle"], "radians");
+        assert!(v["convention"].as_str().unwrap().contains("radians"));
+    }
+    // The text output says degrees.
+    acsg()
+        .args(["contacts", "--pose", "0,0,50,0,0,90"])
+        .arg(fixture("cube.off"))
+        .arg(fixture("cube.off"))
+        .assert()
+        .success()
+        .stdout(contains("rz=90°"));
+}
+
+#[test]
+fn angles_outside_a_half_turn_are_refused_everywhere() {
+    let contacts = |args: &[&str]| {
+        acsg()
+            .arg("contacts")
+            .arg(fixture("cube.off"))
+            .arg(fixture("cube.off"))
+            .args(args)
+            .assert()
+    };
+    contacts(&["--pose", "0,0,0,0,0,200"]).code(2).stderr(
+        contains("--pose")
+            .and(contains("200°, outside ±180°"))
+            .and(contains("-160°")),
+    );
+    // 18 was read as 18 rad before the switch to degrees: refused, not wrapped.
+    contacts(&["--radians", "--pose", "0,0,0,18,0,0"])
+        .code(2)
+        .stderr(contains("18 rad").and(contains("outside ±π")));
+    contacts(&["--pose", "0,0,0,0,0,0", "--assembled", "0,0,0,-181,0,0"])
+        .code(2)
+        .stderr(contains("--assembled").and(contains("outside ±180°")));
+    contacts(&["--pose", "0,0,0,0,0,180"]).success();
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "z=0:1,rz=-190:10"])
+        .assert()
+        .code(2)
+        .stderr(contains("min bound on rz is -190°, outside ±180°"));
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text, fragment) in [
+        ("bounds.toml", "rz = [0, 360]", "max bound on rz is 360°"),
+        (
+            "assembled.toml",
+            "rz = [0, 0]\n[options]\nassembled = [0, 0, 0, 0, 270, 0]",
+            "270°",
+        ),
+    ] {
+        let task = dir.path().join(name);
+        std::fs::write(
+            &task,
+            format!("fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [0, 0]\ny = [0, 0]\nz = [0, 0]\nrx = [0, 0]\nry = [0, 0]\n{text}\n"),
+        )
+        .unwrap();
+        acsg()
+            .arg("run")
+            .arg(&task)
+            .assert()
+            .code(1)
+            .stderr(contains(name).and(contains(fragment)).and(contains("outside ±180°")));
+    }
+}
+
+/// `--units` labels a mesh (its numbers unchanged) and converts a CAD part (which
+/// states its unit): the STEP peg in inches is the millimetre peg divided by 25.4.
+#[test]
+fn units_label_meshes_and_convert_cad_parts() {
+    let inspect = |path: &str, units: Option<&str>| {
+        let mut cmd = acsg();
+        cmd.args(["inspect", "--json"]).arg(fixture(path));
+        if let Some(u) = units {
+            cmd.args(["--units", u]);
+        }
+        let out = cmd.output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let num = |v: &serde_json::Value| v.as_f64().unwrap();
+    let step_mm = inspect("cad/peg.step", None);
+    assert_eq!(step_mm["units"], "mm");
+    let step_in = inspect("cad/peg.step", Some("in"));
+    assert_eq!(step_in["units"], "in");
+    for (k, corner) in [0, 1].iter().flat_map(|c| (0..3).map(move |k| (k, *c))) {
+        let (mm, inch) = (
+            num(&step_mm["parts"][0]["bounds"][corner][k]),
+            num(&step_in["parts"][0]["bounds"][corner][k]),
+        );
+        assert!(
+            (mm / 25.4 - inch).abs() <= 1e-12 * mm.abs().max(1.0),
+            "{mm} mm vs {inch} in"
+        );
+    }
+    let volume_ratio = num(&step_mm["parts"][0]["volume"]) / num(&step_in["parts"][0]["volume"]);
+    assert!((volume_ratio - 25.4f64.powi(3)).abs() < 1e-6 * volume_ratio);
+    // A mesh: the same numbers, labelled.
+    let mesh = inspect("peg.off", None);
+    assert_eq!(mesh["units"], "model units");
+    let mesh_cm = inspect("peg.off", Some("cm"));
+    assert_eq!(mesh_cm["units"], "cm");
+    assert_eq!(mesh["parts"], mesh_cm["parts"]);
+    acsg()
+        .arg("inspect")
+        .arg(fixture("peg.off"))
+        .args(["--units", "cm"])
+        .assert()
+        .success()
+        .stdout(contains("units  cm"));
+    acsg()
+        .arg("inspect")
+        .arg(fixture("peg.off"))
+        .args(["--units", "ft"])
+        .assert()
+        .code(2)
+        .stderr(contains("unknown length unit 'ft' (give mm, cm, m or in)"));
+    // A task file's units reach the summary, the JSON and the report.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(fixture("cube.off"), dir.path().join("cube.off")).unwrap();
+    std::fs::copy(fixture("slab.off"), dir.path().join("slab.off")).unwrap();
+    let task = dir.path().join("cube.toml");
+    std::fs::write(
+        &task,
+        "fixed = \"slab.off\"\nmoving = \"cube.off\"\nunits = \"cm\"\n[bounds]\nx = [0, 0]\ny = [0, 0]\nz = [0, 1]\n\
+         rx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n",
+    )
+    .unwrap();
+    let html = dir.path().join("cube.html");
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .arg("--html")
+        .arg(&html)
+        .assert()
+        .success()
+        .stdout(contains("lengths in cm, angles in degrees"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cube.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["units"]["length"], "cm");
+    assert_eq!(v["units"]["angle"], "radians");
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(page.contains(r#""units":{"length":"cm","angle":"radians"}"#));
+    // The flag overrides the task file.
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .args(["--units", "in", "-o"])
+        .arg(dir.path().join("in.json"))
+        .assert()
+        .success()
+        .stdout(contains("lengths in in,"));
+}
+
+/// A small graph written by the binary (slab and cube, translation only).
+fn small_graph(dir: &Path) -> PathBuf {
+    let path = dir.join("small.json");
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "x=-1:1,z=0:5", "-q", "--no-timings", "-o"])
+        .arg(&path)
+        .assert()
+        .success();
+    path
+}
+
+#[cfg(unix)]
+#[test]
+fn atomic_output_follows_links_writes_devices_and_keeps_the_mode() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let graph = small_graph(dir.path());
+    let export = |output: &Path| {
+        acsg()
+            .args(["export", "--format", "dot"])
+            .arg(&graph)
+            .arg("-o")
+            .arg(output)
+            .assert()
+            .success();
+    };
+    // Through a symlink: the target gets the bytes, the link stays a link.
+    let target = dir.path().join("real.dot");
+    std::fs::write(&target, "old").unwrap();
+    let link = dir.path().join("link.dot");
+    std::os::unix::fs::symlink("real.dot", &link).unwrap();
+    export(&link);
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+    assert!(std::fs::read_to_string(&target).unwrap().starts_with("graph"));
+    // A file's mode survives its replacement.
+    let private = dir.path().join("private.dot");
+    std::fs::write(&private, "old").unwrap();
+    std::fs::set_permissions(&private, std::fs::Permissions::from_mode(0o600)).unwrap();
+    export(&private);
+    assert_eq!(std::fs::metadata(&private).unwrap().permissions().mode() & 0o777, 0o600);
+    assert!(std::fs::read_to_string(&private).unwrap().starts_with("graph"));
+    // A device is written, not replaced (the test cannot replace /dev/null as a user,
+    // so write to it and check it is still a character device).
+    export(Path::new("/dev/null"));
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    // A named pipe stays a pipe and receives the bytes.
+    let fifo = dir.path().join("fifo.dot");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if made.is_ok_and(|s| s.success()) {
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+        };
+        export(&fifo);
+        assert!(reader.join().unwrap().starts_with("graph"));
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    } else {
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr().lock(),
+            "SKIPPED the named-pipe part of atomic_output_...: mkfifo is not available"
+        );
+    }
+    // Nothing of ours is left in the folder.
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+/// A temporary file left by a run killed between write and rename (its process is
+/// gone) is removed by the next write of the same file; one of a live process stays.
+#[cfg(target_os = "linux")]
+#[test]
+fn stale_temporary_files_are_cleaned_and_named_recognisably() {
+    let dir = tempfile::tempdir().unwrap();
+    let graph = small_graph(dir.path());
+    // A process id that cannot be running: above the kernel's pid_max.
+    let pid_max: u64 = std::fs::read_to_string("/proc/sys/kernel/pid_max")
+        .map_or(4_194_304, |t| t.trim().parse().unwrap_or(4_194_304));
+    let stale = dir.path().join(format!(".out.dot.acsg-partial.{}.tmp", pid_max + 1));
+    std::fs::write(&stale, "half a graph").unwrap();
+    let live = dir
+        .path()
+        .join(format!(".out.dot.acsg-partial.{}.tmp", std::process::id()));
+    std::fs::write(&live, "being written").unwrap();
+    acsg()
+        .args(["export", "--format", "dot"])
+        .arg(&graph)
+        .arg("-o")
+        .arg(dir.path().join("out.dot"))
+        .assert()
+        .success();
+    assert!(!stale.exists(), "the stale temporary file was left");
+    assert!(live.exists(), "a live process's temporary file was removed");
+}
+
+#[test]
+fn threads_beyond_the_cap_are_refused() {
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "z=0:1", "--threads", "100000"])
+        .assert()
+        .code(2)
+        .stderr(contains("--threads").and(contains("100000 threads is more than the limit")));
+    let dir = tempfile::tempdir().unwrap();
+    let task = dir.path().join("t.toml");
+    std::fs::write(
+        &task,
+        "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [0, 0]\ny = [0, 0]\nz = [0, 1]\nrx = [0, 0]\n\
+         ry = [0, 0]\nrz = [0, 0]\n[options]\nthreads = 100000\n",
+    )
+    .unwrap();
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .assert()
+        .code(1)
+        .stderr(contains("t.toml:11:11:").and(contains("more than the limit")));
+}
+
+#[test]
+fn task_arrays_of_the_wrong_length_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let head = "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\n";
+    let ok_bounds = "y = [0, 0]\nz = [0, 1]\nrx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n";
+    for (name, text, fragment) in [
+        (
+            "three.toml",
+            format!("{head}x = [-1, 0, 1]\n{ok_bounds}"),
+            "three.toml:4:5: [bounds] x has 3 values; give two",
+        ),
+        ("one.toml", format!("{head}x = [1]\n{ok_bounds}"), "x has 1 values"),
+        (
+            "seven.toml",
+            format!("{head}x = [0, 0]\n{ok_bounds}[options]\nassembled = [0, 0, 0, 0, 0, 0, 0]\n"),
+            "seven.toml:11:13: [options] assembled has 7 values; give six",
+        ),
+    ] {
+        let task = dir.path().join(name);
+        std::fs::write(&task, text).unwrap();
+        acsg().arg("run").arg(&task).assert().code(1).stderr(contains(fragment));
+    }
+}
+
+/// The input cap holds on the bytes read, not the size the file system reports (0 for
+/// a device or a pipe). `ACSG_MAX_INPUT_BYTES` lowers the cap so that the test reads
+/// little.
+#[cfg(unix)]
+#[test]
+fn the_input_cap_holds_for_devices_and_pipes() {
+    for args in [
+        vec!["inspect", "/dev/zero"],
+        vec!["report", "/dev/zero", "-o", "/dev/null"],
+    ] {
+        acsg()
+            .args(&args)
+            .env("ACSG_MAX_INPUT_BYTES", "100000")
+            .timeout(std::time::Duration::from_secs(60))
+            .assert()
+            .code(1)
+            .stderr(contains("/dev/zero").and(contains("limit")));
+    }
+    // A pipe (process substitution gives /dev/fd/N): the same cap.
+    let script = format!(
+        "head -c 200000 /dev/zero | {} inspect /dev/stdin",
+        assert_cmd::cargo::cargo_bin("acsg").display()
+    );
+    let out = std::process::Command::new("sh")
+        .args(["-c", &script])
+        .env("ACSG_MAX_INPUT_BYTES", "100000")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("the input is more than the 100000-byte limit"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn ply_and_iges_errors_are_in_plain_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let ply = dir.path().join("bad.ply");
+    std::fs::write(
+        &ply,
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty flot x\nend_header\n",
+    )
+    .unwrap();
+    let out = acsg().arg("inspect").arg(&ply).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("line 4: the header line `property flot x` cannot be read"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("ParseError") && !stderr.contains("ExpectedSet"),
+        "{stderr}"
+    );
+    // An IGES whose parameter data names another type than its directory entry.
+    let text = std::fs::read_to_string(fixture("cad/peg.igs")).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("186,") && l.ends_with("P0000001"))
+        .unwrap();
+    let bad = text.replace(line, &line.replacen("186,", "120,", 1));
+    let iges = dir.path().join("bad.igs");
+    std::fs::write(&iges, bad).unwrap();
+    let out = acsg().arg("inspect").arg(&iges).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("starts with `120`, not its type 186"), "{stderr}");
+    assert!(!stderr.contains("Some(") && !stderr.contains("Text("), "{stderr}");
+}
+
+#[test]
+fn report_accepts_a_bom_and_validates_what_it_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let graph = small_graph(dir.path());
+    let text = std::fs::read_to_string(&graph).unwrap();
+    let with_bom = dir.path().join("bom.json");
+    std::fs::write(&with_bom, format!("\u{feff}{text}")).unwrap();
+    acsg()
+        .arg("report")
+        .arg(&with_bom)
+        .args(["-o", "/dev/null"])
+        .assert()
+        .success();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let state = v["states"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|s| {
+            s["contacts"]
+                .as_array()
+                .is_some_and(|c| c.iter().any(|c| c["type"] == "f-f"))
+        })
+        .expect("the cube sits on the slab in some state");
+    let contact = v["states"][state]["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|c| c["type"] == "f-f")
+        .unwrap();
+    let mut wrong_kind = v.clone();
+    wrong_kind["states"][state]["contacts"][contact]["moving"] = "v0".into();
+    let mut wrong_dof = v.clone();
+    wrong_dof["states"][state]["dof"] = 200.into();
+    let mut wrong_contact_dof = v.clone();
+    wrong_contact_dof["states"][state]["contacts"][contact]["dof"] = 5.into();
+    let mut duplicate = v.clone();
+    let first = duplicate["edges"][0].clone();
+    let reversed = serde_json::json!([first[1], first[0]]);
+    duplicate["edges"].as_array_mut().unwrap().push(reversed);
+    let mut wrong_units = v.clone();
+    wrong_units["units"]["angle"] = "degrees".into();
+    for (name, doc, fragment) in [
+        (
+            "kind.json",
+            wrong_kind,
+            "names v0 as the moving element, but a f-f contact needs a face",
+        ),
+        ("dof.json", wrong_dof, "has dof 200, but a rigid part has at most 6"),
+        ("cdof.json", wrong_contact_dof, "has dof 5, but a f-f contact leaves 3"),
+        ("dup.json", duplicate, "is listed twice"),
+        ("units.json", wrong_units, "angles \"radians\""),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(&path, serde_json::to_string(&doc).unwrap()).unwrap();
+        acsg()
+            .arg("report")
+            .arg(&path)
+            .args(["-o", "/dev/null"])
+            .assert()
+            .code(1)
+            .stderr(
+                contains(name)
+                    .and(contains("inconsistent graph"))
+                    .and(contains(fragment)),
+            );
+    }
+}
+
+/// Coordinates far from the origin, for the part's size, are refused with advice to
+/// move the part; the same cube near the origin reads.
+#[test]
+fn parts_far_from_the_origin_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = std::fs::read_to_string(fixture("cube.off")).unwrap();
+    let shifted = |offset: f64| {
+        let mut lines: Vec<String> = cube.lines().map(str::to_string).collect();
+        for line in lines.iter_mut().skip(2).take(8) {
+            let v: Vec<f64> = line.split_whitespace().map(|t| t.parse().unwrap()).collect();
+            *line = format!("{} {} {}", v[0] + offset, v[1], v[2]);
+        }
+        lines.join("\n") + "\n"
+    };
+    for offset in [1e12, 1e15] {
+        let path = dir.path().join(format!("far{offset:e}.off"));
+        std::fs::write(&path, shifted(offset)).unwrap();
+        acsg()
+            .arg("inspect")
+            .arg(&path)
+            .assert()
+            .code(1)
+            .stderr(contains("from the origin").and(contains("move the part near the origin")));
+    }
+    // 1000 times its size away (17 mm diagonal, 10 m off): still fine, same volume.
+    let near = dir.path().join("near.off");
+    std::fs::write(&near, shifted(1e4)).unwrap();
+    let out = acsg().args(["inspect", "--json"]).arg(&near).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((v["parts"][0]["volume"].as_f64().unwrap() - 1000.0).abs() < 1e-6);
+}
+
+/// The stage-2 counters are explained: each line says what it counts, and the summary
+/// says that they add up to more than the pairs.
+#[test]
+fn the_stage_two_summary_says_what_each_counter_counts() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180", "-o"])
+        .arg(dir.path().join("g.json"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("g.json")).unwrap()).unwrap();
+    let stat = |k: &str| v["stats"][k].as_u64().unwrap();
+    for (key, words) in [
+        ("stage2_pairs", "pairs (a known state and a single contact to add)"),
+        ("pruned_implied", "implied (the state already holds the contact"),
+        ("pruned_topology", "pairs with no outcome"),
+        ("pruned_duplicate", "outcomes already known or already proposed"),
+        ("stage2_candidates", "new candidates, each decided"),
+    ] {
+        let line = text
+            .lines()
+            .find(|l| l.contains(words))
+            .unwrap_or_else(|| panic!("no line with {words:?} in\n{text}"));
+        assert!(line.contains(&stat(key).to_string()), "{key}: {line}");
+    }
+    assert!(text.contains("add up to more than the pairs"));
+}
+
+/// The sample task runs as written from the repository root (its part paths are
+/// relative to it), and gives the same graph as the command line it stands for.
+#[test]
+fn the_sample_task_runs_from_the_repository_root() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = tempfile::tempdir().unwrap();
+    let from_task = dir.path().join("task.json");
+    acsg()
+        .current_dir(&root)
+        .args(["run", "examples/peg_in_hole.toml", "--no-timings", "-o"])
+        .arg(&from_task)
+        .assert()
+        .success()
+        .stdout(contains("lengths in mm").and(contains("complete yes")));
+    let from_flags = acsg()
+        .current_dir(&root)
+        .args(["generate", "fixtures/block_with_hole.off", "fixtures/peg.off"])
+        .args([
+            "--bounds",
+            "x=-2:2,y=-2:2,z=0:45",
+            "--units",
+            "mm",
+            "--no-timings",
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    assert!(from_flags.status.success());
+    let task: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&from_task).unwrap()).unwrap();
+    let flags: serde_json::Value = serde_json::from_slice(&from_flags.stdout).unwrap();
+    assert_eq!(task["states"], flags["states"]);
+    assert_eq!(task["edges"], flags["edges"]);
+    assert_eq!(task["complete"], true);
+}
+
+/// Chamfers written as planar B-spline surfaces (STEP and IGES) read as planes: 10
+/// faces, 20 edges, 12 vertices, and the same card(PPC) as against each other.
+#[test]
+fn inspect_reads_planar_b_spline_chamfers() {
+    let out = acsg()
+        .args(["inspect", "--json"])
+        .arg(fixture("cad/chamfered_peg.step"))
+        .arg(fixture("cad/chamfered_peg.igs"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for k in 0..2 {
+        assert_eq!(v["parts"][k]["faces"], 10);
+        assert_eq!(v["parts"][k]["edges"], 20);
+        assert_eq!(v["parts"][k]["vertices"], 12);
+    }
+    // Every face and convex vertex of a convex part: f-v 10 x 12 twice, e-e 20 x 20.
+    assert_eq!(v["ppc"]["total"], 10 * 12 * 2 + 20 * 20);
+}
+
+/// `--facet` reads STEP cylinders, cones and circles as planar facets: the round peg
+/// and the block with a round hole come out as the 32-sided OFF fixtures (same counts
+/// and card(PPC)); the run says that its graph is of the faceted parts.
+#[test]
+fn facet_reads_round_step_parts_as_prisms() {
+    let inspect = |args: &[&str], files: [&str; 2]| {
+        let out = acsg()
+            .args(["inspect", "--json"])
+            .args(args)
+            .arg(fixture(files[0]))
+            .arg(fixture(files[1]))
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let step = inspect(
+        &["--facet", "0.1"],
+        ["cad/block_with_round_hole.step", "cad/round_peg.step"],
+    );
+    let off = inspect(&[], ["block_with_round_hole.off", "round_peg.off"]);
+    assert_eq!(step["facet"], 0.1);
+    assert_eq!(step["ppc"], off["ppc"]);
+    for k in 0..2 {
+        for key in ["faces", "edges", "vertices", "convex_pieces"] {
+            assert_eq!(step["parts"][k][key], off["parts"][k][key], "{key}");
+        }
+    }
+    // Without --facet the circle is refused, and the flag suggested.
+    acsg()
+        .arg("inspect")
+        .arg(fixture("cad/round_peg.step"))
+        .assert()
+        .code(1)
+        .stderr(contains("CIRCLE is curved").and(contains("--facet MM")));
+    for bad in ["0", "-1", "nan"] {
+        acsg()
+            .arg("inspect")
+            .arg(fixture("cad/round_peg.step"))
+            .args(["--facet", bad])
+            .assert()
+            .code(2)
+            .stderr(contains("invalid --facet"));
+    }
+    // A run: the summary and the JSON say the graph is of the faceted parts.
+    let dir = tempfile::tempdir().unwrap();
+    let graph = dir.path().join("g.json");
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cad/round_peg.step"))
+        .args(["--facet", "0.3", "--units", "mm", "--bounds", "z=0:5", "-o"])
+        .arg(&graph)
+        .assert()
+        .success()
+        .stdout(contains("chord tolerance 0.3 mm): the graph is of the faceted parts"));
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&graph).unwrap()).unwrap();
+    assert_eq!(v["facet"], 0.3);
+    assert_eq!(v["moving"]["faces"].as_array().unwrap().len(), 2 + 16);
+}
+
+#[test]
+fn a_task_file_can_ask_for_facets() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+    let body = |facet: &str| {
+        format!(
+            "fixed = \"{}\"\nmoving = \"{}\"\nunits = \"mm\"\nfacet = {facet}\n[bounds]\nx = [0, 0]\ny = [0, 0]\n\
+             z = [0, 5]\nrx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n",
+            root.join("slab.off").display(),
+            root.join("cad/round_peg.step").display()
+        )
+    };
+    let task = dir.path().join("round.toml");
+    std::fs::write(&task, body("0.3")).unwrap();
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .assert()
+        .success()
+        .stdout(contains("chord tolerance 0.3 mm"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("round.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["facet"], 0.3);
+    std::fs::write(&task, body("-2")).unwrap();
+    acsg()
+        .arg("run")
+        .arg(&task)
+        .assert()
+        .code(1)
+        .stderr(contains("round.toml:4:9: facet = -2"));
+}

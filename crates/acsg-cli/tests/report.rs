@@ -170,7 +170,10 @@ fn graphml_of_the_example_has_every_state_and_edge() {
             format!("{states} {edges} True")
         );
     } else {
-        eprintln!("networkx check skipped: python3 with networkx not available");
+        skipped(
+            "the networkx check of the GraphML export",
+            "python3 with networkx not available (pip install networkx)",
+        );
     }
 }
 
@@ -306,7 +309,10 @@ fn the_report_renders_in_a_real_browser() {
                 "CI is set but no Chromium was found: .ci/run installs Debian's chromium (apt-get install chromium)"
             );
         }
-        eprintln!("skipped: no chromium on PATH (install it with `apt-get install chromium`, or set ACSG_CHROMIUM)");
+        skipped(
+            "the_report_renders_in_a_real_browser",
+            "no chromium on PATH (install it with `apt-get install chromium`, or set ACSG_CHROMIUM)",
+        );
         return;
     };
     let (dir, json) = demo();
@@ -314,17 +320,7 @@ fn the_report_renders_in_a_real_browser() {
     let page = dir.path().join("demo.html");
 
     // 1. The page's own self check, read from the DOM after the page settled.
-    let dom_file = dir.path().join("dom.html");
-    let status = run_chromium(&browser, &page, &["--dump-dom".to_string()], &dom_file);
-    assert!(status.success(), "chromium --dump-dom failed: {status}");
-    let dom = std::fs::read_to_string(&dom_file).unwrap();
-    let start = dom
-        .find("<pre id=\"acsg-selftest\"")
-        .unwrap_or_else(|| panic!("no self-check element in the DOM ({} bytes)", dom.len()));
-    let body = &dom[start..];
-    let body = &body[body.find('>').unwrap() + 1..body.find("</pre>").unwrap()];
-    assert!(!body.is_empty(), "the page's script did not finish (empty self check)");
-    let check: Value = serde_json::from_str(&html_unescape(body)).unwrap();
+    let check = self_check(&browser, &page, dir.path());
     eprintln!("browser self check: {check}");
     assert_eq!(check["errors"], serde_json::json!([]), "errors in the page");
     assert_eq!(check["states"], states);
@@ -340,6 +336,26 @@ fn the_report_renders_in_a_real_browser() {
     assert!(w > 100 && h > 100, "3D canvas {w}x{h}");
     assert!(drawn * 20 > w * h, "the 3D view drew only {drawn} of {w}x{h} pixels");
     assert_eq!(check["table_rows"], states);
+    // Readable labels at the first view, axes with the unit, names on hover, and the
+    // see-through switch.
+    assert!(
+        check["label_px"].as_f64().unwrap() >= 9.99,
+        "labels of {} px",
+        check["label_px"]
+    );
+    assert_eq!(check["axes"], true);
+    assert!(
+        check["axes_text"].as_str().unwrap().contains("lengths in mm"),
+        "{}",
+        check["axes_text"]
+    );
+    let hover = check["hover_centre"].as_str().unwrap();
+    assert!(
+        hover.starts_with("fixed part: face f") || hover.starts_with("moving part: face f"),
+        "nothing named under the centre of the 3D view: {hover:?}"
+    );
+    assert_eq!(check["see_through"], true);
+    assert_eq!(check["summary_overlaps"], 0);
 
     // 2. A screenshot, kept under target/ for people to look at.
     let shot = Path::new(env!("CARGO_TARGET_TMPDIR")).join("acsg-report-screenshot.png");
@@ -355,4 +371,63 @@ fn the_report_renders_in_a_real_browser() {
     assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
     assert!(png.len() > 20_000, "screenshot of {} bytes: a blank page?", png.len());
     eprintln!("screenshot: {}", shot.display());
+}
+
+/// The page's own self check (`#acsg-selftest`), read from the DOM after it settled.
+fn self_check(browser: &Path, page: &Path, dir: &Path) -> Value {
+    let dom_file = dir.join("dom.html");
+    let status = run_chromium(browser, page, &["--dump-dom".to_string()], &dom_file);
+    assert!(status.success(), "chromium --dump-dom failed: {status}");
+    let dom = std::fs::read_to_string(&dom_file).unwrap();
+    let start = dom
+        .find("<pre id=\"acsg-selftest\"")
+        .unwrap_or_else(|| panic!("no self-check element in the DOM ({} bytes)", dom.len()));
+    let body = &dom[start..];
+    let body = &body[body.find('>').unwrap() + 1..body.find("</pre>").unwrap()];
+    assert!(!body.is_empty(), "the page's script did not finish (empty self check)");
+    serde_json::from_str(&html_unescape(body)).unwrap()
+}
+
+/// A part path of 200 characters wraps in the summary instead of running over the
+/// Bounds table.
+#[test]
+fn long_part_paths_do_not_overlap_the_summary_tables() {
+    let Some(browser) = chromium() else {
+        skipped(
+            "long_part_paths_do_not_overlap_the_summary_tables",
+            "no chromium on PATH (install it with `apt-get install chromium`, or set ACSG_CHROMIUM)",
+        );
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("a_very_long_folder_name_".repeat(8));
+    std::fs::create_dir_all(&long).unwrap();
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+    for name in ["slab.off", "cube.off"] {
+        std::fs::copy(fixtures.join(name), long.join(name)).unwrap();
+    }
+    let page = dir.path().join("long.html");
+    acsg()
+        .arg("generate")
+        .arg(long.join("slab.off"))
+        .arg(long.join("cube.off"))
+        .args(["--bounds", "z=0:5", "--units", "mm", "-q", "-o"])
+        .arg(dir.path().join("long.json"))
+        .arg("--html")
+        .arg(&page)
+        .assert()
+        .success();
+    let check = self_check(&browser, &page, dir.path());
+    eprintln!("browser self check: {check}");
+    assert_eq!(check["errors"], serde_json::json!([]), "errors in the page");
+    assert_eq!(check["summary_overlaps"], 0, "summary blocks overlap");
+    assert_eq!(check["summary_overflowing"], 0, "a summary block runs over its width");
+}
+
+/// Says, past the test harness's capture of `eprintln!` (a direct write to stderr is
+/// not captured), that a check was skipped: `cargo test` then shows the line even
+/// though the test is reported "ok".
+fn skipped(what: &str, why: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr().lock(), "SKIPPED {what}: {why}");
 }

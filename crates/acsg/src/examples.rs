@@ -1,7 +1,9 @@
 //! Built-in example parts, so that the tool runs with no files to find.
 //!
-//! The models are the repository's fixtures (`fixtures/`, made by
-//! `scripts/make_fixtures.py`), compiled into the library.
+//! The models are copies of the repository's fixtures (`fixtures/`, made by
+//! `scripts/make_fixtures.py`) kept in the crate (`assets/examples/`, so that the
+//! crate builds on its own when packaged), compiled into the library; a test checks
+//! that the copies equal the fixtures.
 
 use std::path::Path;
 
@@ -10,15 +12,15 @@ use crate::model::Part;
 /// The paper's example (its Fig. 4, as modelled in `fixtures/`): an L-shaped block
 /// (fixed, 200 × 100 × 150 mm) and a box (moving, 100 × 80 × 100 mm) that sits in the
 /// L's inside corner at the assembled pose.
-pub const L_BLOCK_OFF: &str = include_str!("../../../fixtures/l_block.off");
+pub const L_BLOCK_OFF: &str = include_str!("../assets/examples/l_block.off");
 /// The box of [`L_BLOCK_OFF`]'s example.
-pub const BOX_OFF: &str = include_str!("../../../fixtures/box.off");
+pub const BOX_OFF: &str = include_str!("../assets/examples/box.off");
 
 /// A cube of side 10 with a corner at the origin (the moving part of
 /// [`cube_and_slab`]).
-pub const CUBE_OFF: &str = include_str!("../../../fixtures/cube.off");
+pub const CUBE_OFF: &str = include_str!("../assets/examples/cube.off");
 /// A large slab whose top face is the plane z = 0.
-pub const SLAB_OFF: &str = include_str!("../../../fixtures/slab.off");
+pub const SLAB_OFF: &str = include_str!("../assets/examples/slab.off");
 
 /// Builds a part from an embedded OFF text.
 ///
@@ -93,4 +95,34 @@ pub fn faceted_sphere(faces: usize, radius: f64) -> Part {
         soup.polygons.push((start..start + face.points.len() as u32).collect());
     }
     Part::try_new(&soup, "faceted sphere").expect("a closed convex solid")
+}
+
+#[cfg(test)]
+mod tests {
+    /// The copies in `assets/examples/` are the repository's fixtures, byte for byte
+    /// (skipped, with a line on stderr, outside the repository: a packaged crate).
+    #[test]
+    fn embedded_models_are_the_fixtures() {
+        let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+        if !fixtures.is_dir() {
+            use std::io::Write as _;
+            let _ = writeln!(
+                std::io::stderr().lock(),
+                "SKIPPED embedded_models_are_the_fixtures: no fixtures/ folder (not in the repository)"
+            );
+            return;
+        }
+        for (name, text) in [
+            ("l_block.off", super::L_BLOCK_OFF),
+            ("box.off", super::BOX_OFF),
+            ("cube.off", super::CUBE_OFF),
+            ("slab.off", super::SLAB_OFF),
+        ] {
+            let fixture = std::fs::read_to_string(fixtures.join(name)).expect("the fixture reads");
+            assert_eq!(
+                fixture, text,
+                "assets/examples/{name} differs from fixtures/{name}: copy it again"
+            );
+        }
+    }
 }

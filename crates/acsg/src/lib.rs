@@ -26,3 +26,4 @@ pub mod pose;
 pub mod task;
 pub mod tolerance;
 pub mod topology;
+pub mod units;

@@ -4,8 +4,10 @@
 //! ```toml
 //! fixed = "l_block.off"          # relative to the task file
 //! moving = "box.off"
+//! units = "mm"                   # optional: mm, cm, m or in (see acsg::units)
+//! facet = 0.05                   # optional: read STEP cylinders, cones, circles as facets
 //!
-//! [bounds]                       # [min, max]; lengths in model units, angles in degrees
+//! [bounds]                       # [min, max]; lengths in `units`, angles in degrees (±180)
 //! x = [-5, 5]
 //! y = [-5, 5]
 //! z = [0, 240]
@@ -26,6 +28,7 @@ use serde::Deserialize;
 
 use crate::graph::Options;
 use crate::pose::{Bounds, Pose, PoseError};
+use crate::units::LengthUnit;
 
 /// What can go wrong with a task file or a bounds specification.
 #[derive(Debug, thiserror::Error)]
@@ -70,20 +73,28 @@ pub enum TaskError {
 struct TaskFile {
     fixed: String,
     moving: String,
+    #[serde(default)]
+    units: Option<LengthUnit>,
+    #[serde(default)]
+    facet: Option<toml::Spanned<f64>>,
     bounds: BoundsTable,
     #[serde(default)]
     options: OptionsTable,
 }
 
+/// A TOML array with where it was written (arrays are read whole and their length
+/// checked, so that `[-1, 0, 1]` for a bound is refused rather than cut).
+type Numbers = toml::Spanned<Vec<f64>>;
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct BoundsTable {
-    x: [f64; 2],
-    y: [f64; 2],
-    z: [f64; 2],
-    rx: [f64; 2],
-    ry: [f64; 2],
-    rz: [f64; 2],
+    x: Numbers,
+    y: Numbers,
+    z: Numbers,
+    rx: Numbers,
+    ry: Numbers,
+    rz: Numbers,
 }
 
 #[derive(Deserialize, Default)]
@@ -92,10 +103,35 @@ struct OptionsTable {
     #[serde(default)]
     degenerate: bool,
     #[serde(default)]
-    threads: usize,
+    threads: Option<toml::Spanned<usize>>,
     #[serde(default = "default_effort")]
     effort: u32,
-    assembled: Option<[f64; 6]>,
+    assembled: Option<Numbers>,
+}
+
+/// The most worker threads a run may ask for: four per core, at least 256. More only
+/// slows the machine down (each thread holds a stack; the work does not grow).
+#[must_use]
+pub fn max_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    (4 * cores).max(256)
+}
+
+/// Checks a thread count given by the user.
+///
+/// # Errors
+/// A message naming the limit when `threads` exceeds [`max_threads`].
+pub fn check_threads(threads: usize) -> Result<(), String> {
+    let limit = max_threads();
+    if threads > limit {
+        let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+        Err(format!(
+            "{threads} threads is more than the limit of {limit} (this machine has {cores} cores; \
+             give 0 for one thread per core)"
+        ))
+    } else {
+        Ok(())
+    }
 }
 
 fn default_effort() -> u32 {
@@ -113,6 +149,11 @@ pub struct Task {
     pub fixed: PathBuf,
     /// The moving part's path, resolved likewise.
     pub moving: PathBuf,
+    /// The length unit of the run, if the task file gives one (`units = "mm"`).
+    pub units: Option<LengthUnit>,
+    /// The chord tolerance for reading STEP cylinders, cones and circles as facets
+    /// (`facet = 0.05`, in `units`), if given.
+    pub facet: Option<f64>,
     /// The bounds (radians inside).
     pub bounds: Bounds,
     /// The options.
@@ -125,12 +166,25 @@ impl Task {
     /// # Errors
     /// [`TaskError`] naming the file, line and column, and what to write instead.
     pub fn from_path(path: &Path) -> Result<Task, TaskError> {
-        let text = std::fs::read_to_string(path).map_err(|source| TaskError::Io {
+        let io = |source| TaskError::Io {
             path: path.to_path_buf(),
             source,
+        };
+        let bytes = crate::io::read_capped(path, crate::io::max_input_bytes()).map_err(|e| match e {
+            crate::io::CappedReadError::Io(source) => io(source),
+            crate::io::CappedReadError::TooLarge(_) => io(std::io::Error::other(
+                "it is larger than the input limit, and a task file is a few lines",
+            )),
         })?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            io(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                "it is not UTF-8 text (save it as UTF-8)",
+            ))
+        })?;
+        let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
         let folder = path.parent().unwrap_or(Path::new(""));
-        Task::parse(&text, path, folder)
+        Task::parse(text, path, folder)
     }
 
     /// Parses a task from its text; `path` names it in messages, part paths are taken
@@ -158,23 +212,79 @@ impl Task {
                 message: e.message().trim().to_string(),
             }
         })?;
+        let at = |span: std::ops::Range<usize>, message: String| {
+            let (line, column) = line_column(text, span.start);
+            TaskError::Syntax {
+                path: path.to_path_buf(),
+                line,
+                column,
+                message,
+            }
+        };
         let b = &file.bounds;
-        let pairs = [b.x, b.y, b.z, b.rx, b.ry, b.rz];
+        let mut pairs = [[0.0; 2]; 6];
+        for ((pair, value), name) in pairs
+            .iter_mut()
+            .zip([&b.x, &b.y, &b.z, &b.rx, &b.ry, &b.rz])
+            .zip(["x", "y", "z", "rx", "ry", "rz"])
+        {
+            match value.get_ref().as_slice() {
+                &[lo, hi] => *pair = [lo, hi],
+                other => {
+                    return Err(at(
+                        value.span(),
+                        format!(
+                            "[bounds] {name} has {} values; give two, [min, max] (a fixed component is [v, v])",
+                            other.len()
+                        ),
+                    ));
+                }
+            }
+        }
         let bounds =
             Bounds::from_degrees(pairs.map(|p| p[0]), pairs.map(|p| p[1])).map_err(|source| TaskError::Bounds {
                 place: format!("{}: [bounds]", path.display()),
                 source,
             })?;
+        let facet = match &file.facet {
+            Some(f) if !(f.get_ref().is_finite() && *f.get_ref() > 0.0) => {
+                return Err(at(
+                    f.span(),
+                    format!(
+                        "facet = {} (give the chord tolerance as a positive length)",
+                        f.get_ref()
+                    ),
+                ));
+            }
+            Some(f) => Some(*f.get_ref()),
+            None => None,
+        };
+        let threads = match &file.options.threads {
+            Some(t) => {
+                check_threads(*t.get_ref()).map_err(|m| at(t.span(), format!("[options] threads: {m}")))?;
+                *t.get_ref()
+            }
+            None => 0,
+        };
         let mut options = Options {
             degenerate: file.options.degenerate,
-            threads: file.options.threads,
+            threads,
             effort: file.options.effort.max(1),
             ..Options::default()
         };
-        if let Some(g) = file.options.assembled {
+        if let Some(g) = &file.options.assembled {
+            if g.get_ref().len() != 6 {
+                return Err(at(
+                    g.span(),
+                    format!(
+                        "[options] assembled has {} values; give six, [x, y, z, rx, ry, rz] (angles in degrees)",
+                        g.get_ref().len()
+                    ),
+                ));
+            }
             let place = format!("{}: [options] assembled", path.display());
-            let text = g.map(|v| v.to_string()).join(",");
-            let pose = Pose::parse(&text, true).map_err(|source| TaskError::Bounds {
+            let text = g.get_ref().iter().map(|v| v.to_string()).collect::<Vec<_>>().join(",");
+            let pose = Pose::parse_checked(&text, true).map_err(|source| TaskError::Bounds {
                 place: place.clone(),
                 source,
             })?;
@@ -185,6 +295,8 @@ impl Task {
             moving: folder.join(&file.moving),
             fixed_given: file.fixed,
             moving_given: file.moving,
+            units: file.units,
+            facet,
             bounds,
             options,
         })

@@ -66,3 +66,11 @@ pub const PARALLEL_SIN: f64 = 1e-9;
 /// Element pairs that do not touch are searched for the smallest gap up to this
 /// distance, relative to `L`; farther pairs are reported only as "at least this far".
 pub const GAP_SEARCH_REL: f64 = 1e-2;
+
+/// The farthest a part's points may lie from the origin, relative to the part's own
+/// diagonal. Coordinates are `f64` (about 16 significant digits); a point at distance
+/// `c` is known to `c · 2.2e-16`, and the contact tolerance is [`CONTACT_REL`] of the
+/// diagonal `d`. At `c = 1e4 · d` that rounding is 1/450 of the tolerance, enough for
+/// the arithmetic of the contact tests; farther out, states appear and vanish by
+/// rounding (a cube 1e12 from the origin gave 54 states instead of 7).
+pub const OFFSET_REL: f64 = 1e4;

@@ -156,12 +156,26 @@ fn step_refuses_curved_surfaces_and_edges_by_instance() {
     let e = error_of(&circle, "peg.step");
     assert!(e.contains("#27 CIRCLE is curved") && e.contains("faceted"), "{e}");
 
-    let spline = peg.replace(
-        "#27 = LINE('',#28,#29);",
-        "#27 = B_SPLINE_CURVE_WITH_KNOTS('',1,(#28,#28),.UNSPECIFIED.,.F.,.F.,(2,2),(0.,1.),.UNSPECIFIED.);",
+    // A B-spline edge is read as a line when its control points are collinear, and
+    // refused by name when they are not (the edge #21 runs from (36,36,10) to (36,36,90)).
+    let spline = |middle: &str| {
+        peg.replace(
+            "#27 = LINE('',#28,#29);",
+            "#27 = B_SPLINE_CURVE_WITH_KNOTS('',2,(#28,#900,#25),.UNSPECIFIED.,.F.,.F.,(3,3),(0.,1.),\
+             .UNSPECIFIED.);",
+        )
+        .replace(
+            "ENDSEC;\nEND-ISO",
+            &format!("#900 = CARTESIAN_POINT('',({middle}));\nENDSEC;\nEND-ISO"),
+        )
+    };
+    let straight = part_of(&spline("36.,36.,50."), "peg.step").expect("a collinear B-spline edge reads");
+    assert_eq!(geometry(&straight), geometry(&load("cad/peg.step")));
+    let e = error_of(&spline("40.,36.,50."), "peg.step");
+    assert!(
+        e.contains("#27 B_SPLINE_CURVE_WITH_KNOTS is curved: its points lie up to") && e.contains("straight"),
+        "{e}"
     );
-    let e = error_of(&spline, "peg.step");
-    assert!(e.contains("#27 B_SPLINE_CURVE_WITH_KNOTS is curved"), "{e}");
 
     let unknown = peg.replace("#19 = EDGE_LOOP('',", "#19 = VERTEX_LOOP('',");
     let e = error_of(&unknown, "peg.step");
@@ -249,9 +263,10 @@ fn iges_refuses_curved_and_unsupported_entities_by_type_and_de() {
         let peg = text(file);
         let plane = if file.contains("faces") { 108 } else { 190 };
         let de = first_de(&peg, plane);
+        // A plane's parameters read as a B-spline surface's: a damaged 128, named.
         let e = error_of(&retype(&peg, de, plane, 128), file);
         assert!(
-            e.contains(&format!("entity 128 (rational B-spline surface) at DE {de} is curved")) && e.contains("planar"),
+            e.contains(&format!("entity 128 (rational B-spline surface) at DE {de}")),
             "{file}: {e}"
         );
         let de = first_de(&peg, 110);
@@ -340,4 +355,147 @@ fn read_errors_name_the_file() {
         other => panic!("{other:?}"),
     };
     assert!(e.contains("missing.step"), "{e}");
+}
+
+/// The chamfered peg of `scripts/make_cad_fixtures.py`: its chamfers are degree (1,1)
+/// B-spline surfaces with four coplanar control points (one rational, as a complex
+/// STEP instance; IGES 128), the edges around them degree-1 B-spline curves (IGES 126)
+/// and one trimmed line. Both files give the solid the script describes, checked
+/// against numbers worked out by hand: the peg 28 x 28 x 80 less the bottom 2 mm's
+/// frame, a 28 x 28 to 24 x 24 frustum replacing a 28 x 28 x 2 slab.
+#[test]
+fn planar_b_spline_faces_and_straight_spline_edges_read_as_planes_and_lines() {
+    let step = load("cad/chamfered_peg.step");
+    let iges = load("cad/chamfered_peg.igs");
+    let frustum = 2.0 / 3.0 * (24.0 * 24.0 + 28.0 * 28.0 + 24.0 * 28.0);
+    let volume = 28.0 * 28.0 * 80.0 - 28.0 * 28.0 * 2.0 + frustum;
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let mut expected: Vec<[i64; 3]> = [
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [s, 0.0, -s],
+        [-s, 0.0, -s],
+        [0.0, s, -s],
+        [0.0, -s, -s],
+    ]
+    .iter()
+    .map(|n| n.map(|x| (x * 1e3).round() as i64))
+    .collect();
+    expected.sort_unstable();
+    for part in [&step, &iges] {
+        assert_eq!(counts(part), (10, 0, 12, 12, 20, 20));
+        assert!((part.volume() - volume).abs() < 1e-6, "{} vs {volume}", part.volume());
+        let mut normals: Vec<[i64; 3]> = geometry(part).1.iter().map(|f| [f[0], f[1], f[2]]).collect();
+        normals.sort_unstable();
+        assert_eq!(normals, expected);
+    }
+    assert_eq!(geometry(&step), geometry(&iges));
+}
+
+#[test]
+fn curved_b_spline_surfaces_are_refused_by_name() {
+    // STEP: move one control point of the chamfer #225 by 1 mm off its plane.
+    let step = text("cad/chamfered_peg.step");
+    let point = step
+        .lines()
+        .find(|l| l.starts_with("#225 = B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((#221,#224),(#222,#223))"))
+        .map(|_| "#223 = CARTESIAN_POINT('',(64.,64.,12.));")
+        .expect("the fixture's chamfer #225");
+    assert!(step.contains(point), "the fixture changed: update this test");
+    let bent = step.replace(point, "#223 = CARTESIAN_POINT('',(64.,64.,13.));");
+    let e = error_of(&bent, "chamfered_peg.step");
+    assert!(
+        e.contains("#225 B_SPLINE_SURFACE_WITH_KNOTS is curved: its control points lie up to") && e.contains("planar"),
+        "{e}"
+    );
+    // IGES: the same for the first 128 (its third control point, (36, 36, 12)).
+    let iges = text("cad/chamfered_peg.igs");
+    let de = first_de(&iges, 128);
+    let line = "\n12.,64.,36.,12.,0.,24.,0.,";
+    assert!(iges.contains(line), "the fixture changed: update this test");
+    let e = error_of(
+        &iges.replacen(line, "\n13.,64.,36.,12.,0.,24.,0.,", 1),
+        "chamfered_peg.igs",
+    );
+    assert!(
+        e.contains(&format!(
+            "entity 128 (rational B-spline surface) at DE {de} is curved: its control points"
+        )) && e.contains("planar"),
+        "{e}"
+    );
+}
+
+fn faceted(name: &str, facet_mm: f64) -> Result<Part, String> {
+    Part::from_path_with(&fixture(name), None, Some(facet_mm))
+        .map(|(part, _)| part)
+        .map_err(|e| e.to_string())
+}
+
+/// With a chord tolerance, the STEP round peg (a true cylinder) and the block with a
+/// round hole (a cylinder, then a cone) become the 32-sided prisms that
+/// scripts/make_fixtures.py wrote independently as OFF (60-digit arithmetic): same
+/// counts, same vertices, same face planes.
+#[test]
+fn faceted_cylinders_and_cones_match_the_polygonal_fixtures() {
+    for (step, off) in [
+        ("cad/round_peg.step", "round_peg.off"),
+        ("cad/block_with_round_hole.step", "block_with_round_hole.off"),
+    ] {
+        // 0.1 mm: 32 sides for both files (16 would stray 0.27 and 0.35 mm).
+        let part = faceted(step, 0.1).unwrap_or_else(|e| panic!("{e}"));
+        let mesh = load(off);
+        assert_eq!(counts(&part), counts(&mesh), "{step}");
+        assert_eq!(geometry(&part), geometry(&mesh), "{step}");
+        assert!((part.volume() - mesh.volume()).abs() < 1e-6 * mesh.volume(), "{step}");
+    }
+    // A coarser tolerance: the fewest sides (a power of two) whose chord strays at most
+    // that far, r (1 - cos(pi / n)) <= 0.3 for r = 14: n = 16; the prism's volume is
+    // (n / 2) r^2 sin(2 pi / n) times the height.
+    let peg = faceted("cad/round_peg.step", 0.3).unwrap();
+    let n = 16.0_f64;
+    assert!(14.0 * (1.0 - (std::f64::consts::PI / n).cos()) <= 0.3);
+    assert!(14.0 * (1.0 - (std::f64::consts::PI / (n / 2.0)).cos()) > 0.3);
+    assert_eq!(peg.faces().len(), 2 + 16);
+    let volume = n / 2.0 * 14.0 * 14.0 * (std::f64::consts::TAU / n).sin() * 80.0;
+    assert!(
+        (peg.volume() - volume).abs() < 1e-9 * volume,
+        "{} vs {volume}",
+        peg.volume()
+    );
+}
+
+#[test]
+fn curved_surfaces_are_refused_with_or_without_facets() {
+    // Without --facet: the circle is named and --facet suggested.
+    let e = Part::from_path(&fixture("cad/round_peg.step")).unwrap_err().to_string();
+    assert!(e.contains("CIRCLE is curved") && e.contains("--facet"), "{e}");
+    // A sphere is not faceted: refused by name.
+    let peg = text("cad/round_peg.step");
+    let sphere = peg.replace("CYLINDRICAL_SURFACE('',", "SPHERICAL_SURFACE('',");
+    assert_ne!(sphere, peg);
+    let path = std::env::temp_dir().join(format!("acsg-sphere-{}.step", std::process::id()));
+    std::fs::write(&path, &sphere).unwrap();
+    let e = Part::from_path_with(&path, None, Some(0.1)).unwrap_err().to_string();
+    let _ = std::fs::remove_file(&path);
+    assert!(
+        e.contains("SPHERICAL_SURFACE is curved") && e.contains("faceted"),
+        "{e}"
+    );
+    // A cylinder face bounded otherwise than by two whole circles (here the bottom
+    // circle of its loop replaced by the seam) is refused, naming face and surface.
+    let line = "#64 = ORIENTED_EDGE('',*,*,#27,.T.);";
+    assert!(peg.contains(line), "the fixture changed: update this test");
+    let one_circle = peg.replace(line, "#64 = ORIENTED_EDGE('',*,*,#40,.T.);");
+    let path = std::env::temp_dir().join(format!("acsg-one-circle-{}.step", std::process::id()));
+    std::fs::write(&path, &one_circle).unwrap();
+    let e = Part::from_path_with(&path, None, Some(0.1)).unwrap_err().to_string();
+    let _ = std::fs::remove_file(&path);
+    assert!(
+        e.contains("CYLINDRICAL_SURFACE: it is bounded by 1 whole circles, not two") && e.contains("--facet"),
+        "{e}"
+    );
 }

@@ -84,7 +84,10 @@ fn graphml_loads_in_networkx_when_python_has_it() {
         .output()
         .is_ok_and(|o| o.status.success());
     if !has_networkx {
-        eprintln!("skipped: python3 with networkx not available");
+        skipped(
+            "graphml_loads_in_networkx_when_python_has_it",
+            "python3 with networkx not available (pip install networkx)",
+        );
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -223,4 +226,12 @@ fn bad_files_are_refused_with_the_reason_and_the_file_name() {
             .starts_with("no/such/graph.json: cannot read the graph"),
         "{missing}"
     );
+}
+
+/// Says, past the test harness's capture of `eprintln!` (a direct write to stderr is
+/// not captured), that a check was skipped: `cargo test` then shows the line even
+/// though the test is reported "ok".
+fn skipped(what: &str, why: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr().lock(), "SKIPPED {what}: {why}");
 }

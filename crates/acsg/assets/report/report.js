@@ -49,11 +49,12 @@
   G.edges.forEach(function (e) { neighbours[e[0]].push(e[1]); neighbours[e[1]].push(e[0]); });
 
   // ---------- header, summary, footer ----------
+  var lengthUnit = (G.units && G.units.length) || 'model units';
   document.getElementById('subtitle').textContent =
     G.fixed.path + ' (fixed) / ' + G.moving.path + ' (moving): ' + N + ' states, ' + G.edges.length + ' edges';
   document.getElementById('footer').textContent =
     'Made by ' + D.generator + ' (format ' + G.format + '). Pose convention: ' + G.convention +
-    '. Lengths in model units, angles in degrees on this page (radians in the JSON).';
+    '. Lengths in ' + lengthUnit + ', angles in degrees on this page (radians in the JSON).';
 
   function table(rows, header) {
     var t = el('table');
@@ -75,7 +76,7 @@
     var names = ['x', 'y', 'z', 'rx', 'ry', 'rz'];
     var bounds = names.map(function (n, k) {
       var lo = G.bounds.min[k], hi = G.bounds.max[k];
-      return k < 3 ? [n, fmt(lo, 3) + ' … ' + fmt(hi, 3)] : [n, fmt(deg(lo), 2) + '° … ' + fmt(deg(hi), 2) + '°'];
+      return k < 3 ? [n, fmt(lo, 3) + ' … ' + fmt(hi, 3) + ' ' + lengthUnit] : [n, fmt(deg(lo), 2) + '° … ' + fmt(deg(hi), 2) + '°'];
     });
     var stage1 = [
       ['card(PPC)', s.ppc], ['ruled out without optimising', s.ppc_unreachable], ['feasible PPCs', s.feasible_ppc],
@@ -83,11 +84,13 @@
       ['time (s)', fmt(s.stage1_seconds, 3)]
     ];
     var stage2 = [
-      ['pairs considered', s.stage2_pairs], ['pruned: implied', s.pruned_implied], ['pruned: topology', s.pruned_topology],
-      ['pruned: degenerate', s.pruned_degenerate], ['pruned: duplicate', s.pruned_duplicate],
-      ['candidates', s.stage2_candidates], ['ruled out without optimising', s.pruned_unreachable],
-      ['searched by optimisation', s.stage2_searched], ['local optimisation runs', s.stage2_optimisations],
-      ['searched below known states', s.descents], ['infeasible', s.infeasible],
+      ['pairs (a state, a contact to add)', s.stage2_pairs],
+      ['implied (held already, or the state itself)', s.pruned_implied],
+      ['pairs with no outcome (topology)', s.pruned_topology],
+      ['outcomes left out as degenerate', s.pruned_degenerate], ['outcomes already known or proposed', s.pruned_duplicate],
+      ['new candidates', s.stage2_candidates], ['… ruled out without optimising', s.pruned_unreachable],
+      ['… searched by optimisation', s.stage2_searched], ['local optimisation runs', s.stage2_optimisations],
+      ['searched below known states', s.descents], ['infeasible (both stages)', s.infeasible],
       ['found on the way', s.found_on_the_way], ['found below known states', s.found_by_descent],
       ['time (s)', fmt(s.stage2_seconds, 3)]
     ];
@@ -105,7 +108,9 @@
     box.appendChild(block('Parts', table(parts.slice(1), parts[0])));
     box.appendChild(block('Bounds (options: degenerate states ' + (G.options.degenerate ? 'kept' : 'left out') + ')', table(bounds)));
     box.appendChild(block('Stage 1: primitive contacts', table(stage1)));
-    box.appendChild(block('Stage 2: growing states', table(stage2)));
+    var stage2Block = block('Stage 2: growing states', table(stage2));
+    stage2Block.appendChild(el('p', { class: 'note', text: 'A pair gives one outcome per case of the mapping rules, so the counts add up to more than the pairs.' }));
+    box.appendChild(stage2Block);
     box.appendChild(block('Graph: ' + s.states + ' states, ' + s.edges + ' edges, ' + fmt(total, 3) + ' s in all',
       table(byLayer.map(function (r) { return [r[0], r[1], r[2]]; }), ['contacts', 'DOF', 'states'])));
   })();
@@ -170,6 +175,11 @@
     cy.on('tap', 'node', function (evt) { select(Number(evt.target.id().slice(1)), false); });
     legend();
   })();
+  // Labels must be readable at the first view: when fitting the whole graph would
+  // shrink them below 10 px, the first view zooms in (around the selected state, once
+  // chosen) and the user zooms out for the whole.
+  var LABEL_FONT = 17, LABEL_MIN_PX = 10;
+  function readableZoom() { return LABEL_MIN_PX / LABEL_FONT; }
   document.getElementById('colour-by').addEventListener('change', function (e) {
     colourBy = e.target.value;
     cy.batch(function () {
@@ -261,6 +271,70 @@
     var A = buildPart(G.fixed, 0x9fb3c8, 1);
     var B_OPACITY = 0.55;
     var B = buildPart(G.moving, 0xf2a65a, B_OPACITY);
+    var A_OPACITY = 1;
+    // Axes of the fixed part's frame at its origin (x red, y green, z blue), a quarter
+    // of L long, and their key with the unit of lengths.
+    var axes = new THREE.AxesHelper(L * 0.25);
+    // Drawn over the parts, so that the axes show even inside a solid's corner.
+    axes.material.depthTest = false;
+    axes.material.transparent = true;
+    axes.renderOrder = 5;
+    scene.add(axes);
+    box.appendChild(el('div', { class: 'axes' }, [
+      'axes at the fixed part\'s origin: ', el('b', { text: 'x', style: 'color:#e03131' }), ' ',
+      el('b', { text: 'y', style: 'color:#2f9e44' }), ' ', el('b', { text: 'z', style: 'color:#1c7ed6' }),
+      ' · lengths in ' + lengthUnit + ' · axes ' + fmt(L * 0.25, 1) + ' long'
+    ]));
+    // The name of the face under the mouse.
+    var tip = el('div', { class: 'tip' });
+    box.appendChild(tip);
+    var raycaster = new THREE.Raycaster();
+    function labelAt(x, y) {
+      var w = box.clientWidth, h = box.clientHeight;
+      if (!w || !h) return '';
+      raycaster.setFromCamera(new THREE.Vector2(x / w * 2 - 1, -(y / h) * 2 + 1), camera);
+      var candidates = [];
+      [[A, 'fixed'], [B, 'moving']].forEach(function (pair) {
+        if (!pair[0].group.visible) return;
+        pair[0].faces.forEach(function (m, f) { m.userData.label = pair[1] + ' part: face f' + f; candidates.push(m); });
+      });
+      scene.updateMatrixWorld(true);
+      var hit = raycaster.intersectObjects(candidates, false)[0];
+      if (!hit) return '';
+      var label = hit.object.userData.label;
+      // The nearest vertex of that part, when the pointer is close to one.
+      var part = label.indexOf('fixed') === 0 ? A : B;
+      var local = part.group.worldToLocal(hit.point.clone());
+      var best = -1, bestD = Infinity;
+      part.P.vertices.forEach(function (v, k) {
+        var d = local.distanceTo(new THREE.Vector3().fromArray(v));
+        if (d < bestD) { bestD = d; best = k; }
+      });
+      if (best >= 0 && bestD < L * 0.02) label += ', near vertex v' + best;
+      return label;
+    }
+    view.labelAt = labelAt;
+    renderer.domElement.addEventListener('mousemove', function (e) {
+      var r = renderer.domElement.getBoundingClientRect();
+      var text = labelAt(e.clientX - r.left, e.clientY - r.top);
+      tip.textContent = text;
+      tip.style.display = text ? 'block' : 'none';
+      tip.style.left = (e.clientX - r.left + 12) + 'px';
+      tip.style.top = (e.clientY - r.top + 12) + 'px';
+    });
+    renderer.domElement.addEventListener('mouseleave', function () { tip.style.display = 'none'; });
+    // See-through: the fixed part translucent, so contacts inside a hole show.
+    view.seeThrough = function (on) {
+      A_OPACITY = on ? 0.28 : 1;
+      A.faces.forEach(function (m) {
+        m.material.opacity = A_OPACITY;
+        m.material.transparent = A_OPACITY < 1;
+        m.material.depthWrite = A_OPACITY >= 1;
+        m.material.needsUpdate = true;
+      });
+      render();
+    };
+    document.getElementById('see-through').addEventListener('change', function (e) { view.seeThrough(e.target.checked); });
     function setMatrix(obj, m) {
       obj.matrix.set(m[0][0], m[0][1], m[0][2], m[0][3], m[1][0], m[1][1], m[1][2], m[1][3],
         m[2][0], m[2][1], m[2][2], m[2][3], m[3][0], m[3][1], m[3][2], m[3][3]);
@@ -353,7 +427,7 @@
       framed = true;
     }
     view.show = function (s) {
-      clearMarks(A, 1);
+      clearMarks(A, A_OPACITY);
       clearMarks(B, B_OPACITY);
       if (s.witness) {
         B.group.visible = true;
@@ -390,6 +464,7 @@
 
   // ---------- selection ----------
   var info = document.getElementById('state-info');
+  var startedView = false;
   function stateLink(i) {
     var a = el('a', { text: String(i), title: states[i].contacts.map(contactText).join('; ') || 'free space' });
     a.addEventListener('click', function () { select(i, true); });
@@ -406,6 +481,13 @@
       node.connectedEdges().addClass('near');
     });
     if (centre) cy.animate({ center: { eles: cy.getElementById('s' + i) } }, { duration: 250 });
+    if (!startedView) {
+      startedView = true;
+      if (cy.zoom() < readableZoom()) {
+        cy.zoom(readableZoom());
+        cy.center(cy.getElementById('s' + i));
+      }
+    }
     info.textContent = '';
     var title = 'State ' + i + ': ' + (s.contacts.length ? s.contacts.length + ' principal contact' + (s.contacts.length > 1 ? 's' : '') : 'free space') +
       ', ' + s.dof + ' DOF' + (s.degenerate ? ', degenerate' : '');
@@ -515,7 +597,33 @@
       } catch (err) { /* a canvas of another kind: not counted */ }
     });
     if (view.ok) view.check();
+    // Blocks of the summary must not overlap (long paths wrap).
+    var blocks = Array.prototype.map.call(document.querySelectorAll('#summary > div'), function (b) { return b.getBoundingClientRect(); });
+    var overlaps = 0;
+    for (var a = 0; a < blocks.length; a++) {
+      for (var b = a + 1; b < blocks.length; b++) {
+        var p = blocks[a], q = blocks[b];
+        if (p.left < q.right - 1 && q.left < p.right - 1 && p.top < q.bottom - 1 && q.top < p.bottom - 1) overlaps++;
+      }
+    }
+    var wide = Array.prototype.filter.call(document.querySelectorAll('#summary > div'), function (b) { return b.scrollWidth > b.clientWidth + 1; }).length;
+    var hover = '';
+    var seeThrough = null;
+    if (view.ok) {
+      var vb = document.getElementById('view3d');
+      hover = view.labelAt(vb.clientWidth / 2, vb.clientHeight / 2);
+      view.seeThrough(true);
+      seeThrough = document.querySelectorAll('#see-through').length === 1;
+      view.seeThrough(false);
+    }
     document.getElementById('acsg-selftest').textContent = JSON.stringify({
+      summary_overlaps: overlaps,
+      summary_overflowing: wide,
+      label_px: LABEL_FONT * cy.zoom(),
+      axes: document.querySelectorAll('#view3d .axes').length === 1,
+      axes_text: (document.querySelector('#view3d .axes') || {}).textContent || '',
+      hover_centre: hover,
+      see_through: seeThrough,
       states: N,
       graph_edges: G.edges.length,
       nodes: cy.nodes().length,

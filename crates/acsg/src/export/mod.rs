@@ -70,9 +70,25 @@ impl GraphFile {
     /// [`ExportError`]: unreadable, empty, not JSON, another format, inconsistent.
     pub fn from_path(path: &Path) -> Result<GraphFile, ExportError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| ExportError::Read {
+        let read = |source| ExportError::Read {
             path: name.clone(),
             source,
+        };
+        let bytes = crate::io::read_capped(path, crate::io::max_input_bytes()).map_err(|e| match e {
+            crate::io::CappedReadError::Io(source) => read(source),
+            crate::io::CappedReadError::TooLarge(_) => read(std::io::Error::other(format!(
+                "larger than the {}-byte input limit",
+                crate::io::max_input_bytes()
+            ))),
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            read(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "not UTF-8 text (byte {}); expected a graph written by `acsg generate`, `run` or `demo`",
+                    e.utf8_error().valid_up_to()
+                ),
+            ))
         })?;
         GraphFile::from_json(&text, &name)
     }
@@ -84,6 +100,8 @@ impl GraphFile {
     /// [`ExportError`]: empty, not JSON, another format, inconsistent.
     pub fn from_json(text: &str, name: &str) -> Result<GraphFile, ExportError> {
         let path = || name.to_string();
+        // A byte-order mark, as some editors write, is not part of the JSON.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         if text.trim().is_empty() {
             return Err(ExportError::Empty { path: path() });
         }
@@ -133,6 +151,13 @@ impl GraphFile {
         for (role, part) in [("fixed", &self.fixed), ("moving", &self.moving)] {
             check_part(part).map_err(|e| format!("{role} part: {e}"))?;
         }
+        let lengths = ["mm", "cm", "m", "in", crate::units::UNSPECIFIED];
+        if !lengths.contains(&self.units.length.as_str()) || self.units.angle != "radians" {
+            return Err(format!(
+                "units {{\"length\": {:?}, \"angle\": {:?}}}: lengths must be one of {lengths:?} and angles \"radians\"",
+                self.units.length, self.units.angle
+            ));
+        }
         let finite = |m: &[[f64; 4]; 4]| m.iter().flatten().all(|x| x.is_finite());
         if !finite(&self.assembled) {
             return Err("the assembled pose has a non-finite entry".into());
@@ -148,7 +173,14 @@ impl GraphFile {
             if bad_witness {
                 return Err(format!("state {index}: the witness has a non-finite entry"));
             }
+            if state.dof > 6 {
+                return Err(format!(
+                    "state {index} has dof {}, but a rigid part has at most 6",
+                    state.dof
+                ));
+            }
             for contact in &state.contacts {
+                check_contact(contact).map_err(|e| format!("state {index}: {e}"))?;
                 for (role, part, element) in [
                     ("fixed", &self.fixed, contact.fixed),
                     ("moving", &self.moving, contact.moving),
@@ -162,6 +194,7 @@ impl GraphFile {
                 }
             }
         }
+        let mut seen = std::collections::HashSet::new();
         for &[a, b] in &self.edges {
             if a >= self.states.len() || b >= self.states.len() || a == b {
                 return Err(format!(
@@ -169,9 +202,63 @@ impl GraphFile {
                     self.states.len()
                 ));
             }
+            if !seen.insert((a.min(b), a.max(b))) {
+                return Err(format!("edge [{a}, {b}] is listed twice"));
+            }
+        }
+        for (index, undecided) in self.undecided.iter().enumerate() {
+            for contact in &undecided.contacts {
+                check_contact(contact).map_err(|e| format!("undecided candidate {index}: {e}"))?;
+            }
         }
         Ok(())
     }
+}
+
+/// A contact's elements are of the kinds its type names (`f-v`: a face of the fixed
+/// part, a vertex of the moving part), and its DOF is the one of its type.
+fn check_contact(contact: &crate::contact::ContactRecord) -> Result<(), String> {
+    let label = contact.kind.label();
+    let mut letters = label.split('-').filter_map(|p| p.chars().next());
+    let (Some(want_fixed), Some(want_moving)) = (letters.next(), letters.next()) else {
+        return Ok(());
+    };
+    let letter = |e: ElementId| match e {
+        ElementId::Face(_) => 'f',
+        ElementId::Edge(_) => 'e',
+        ElementId::Vertex(_) => 'v',
+    };
+    let noun = |c: char| match c {
+        'f' => "face",
+        'e' => "edge",
+        _ => "vertex",
+    };
+    for (role, want, element) in [
+        ("fixed", want_fixed, contact.fixed),
+        ("moving", want_moving, contact.moving),
+    ] {
+        if letter(element) != want {
+            return Err(format!(
+                "contact {} names {element} as the {role} element, but a {label} contact needs a {}",
+                contact_text(contact),
+                noun(want)
+            ));
+        }
+    }
+    let dof = crate::contact::PrincipalContact {
+        fixed: contact.fixed,
+        moving: contact.moving,
+        kind: contact.kind,
+    }
+    .dof();
+    if contact.dof != dof {
+        return Err(format!(
+            "contact {} has dof {}, but a {label} contact leaves {dof}",
+            contact_text(contact),
+            contact.dof
+        ));
+    }
+    Ok(())
 }
 
 fn check_part(part: &PartElements) -> Result<(), String> {
@@ -222,7 +309,7 @@ pub fn contacts_text(state: &StateRecord) -> String {
     state.contacts.iter().map(contact_text).collect::<Vec<_>>().join("; ")
 }
 
-/// A state's witness pose as `x,y,z,rx,ry,rz` (radians), the form `acsg contacts
+/// A state's witness pose as `x,y,z,rx,ry,rz` (radians), the form `acsg contacts --radians
 /// --pose` reads; `None` without a witness.
 #[must_use]
 pub fn witness_text(state: &StateRecord) -> Option<String> {

@@ -20,6 +20,11 @@ pub struct Document {
     /// Units of lengths and angles in this file.
     #[serde(default)]
     pub units: Units,
+    /// The chord tolerance (in `units.length`) with which STEP cylinders, cones and
+    /// circles were read as planar facets (`--facet`): the graph is then that of the
+    /// faceted parts. Absent when nothing was faceted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub facet: Option<f64>,
     /// The fixed part A: path as given and elements with geometry.
     pub fixed: PartElements,
     /// The moving part B.
@@ -57,9 +62,10 @@ pub struct UndecidedRecord {
 /// Units used in the file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Units {
-    /// Always "model units" (those of the input files).
+    /// The unit of lengths: `mm`, `cm`, `m`, `in` (see [`crate::units`]), or "model
+    /// units" when none was given.
     pub length: String,
-    /// Always "radians".
+    /// Always "radians" in files (degrees are for the command line and the report).
     pub angle: String,
 }
 
@@ -132,6 +138,7 @@ impl Document {
             format: FORMAT.into(),
             convention: CONVENTION.into(),
             units: Units::default(),
+            facet: None,
             fixed: fixed_elements,
             moving: moving_elements,
             assembled: Pose::default().matrix(&g),

@@ -21,8 +21,12 @@
 //! km, 8 mil, 9 micron, 10 cm, 11 microinch; the standard's default is inches) and the
 //! model space scale (parameter 13).
 //!
-//! Curved geometry (100 circular arc, 126 B-spline curve, 128 B-spline surface, 120
-//! surface of revolution, ...), transformation matrices (124) and every other geometric
+//! A 128 (rational B-spline surface) whose control points are coplanar is read as its
+//! plane, and a 126 (rational B-spline curve) whose control points are collinear as its
+//! line (within [`crate::tolerance::COPLANAR_REL`] of their size): a B-spline is an
+//! affine combination of its control points, so it lies in their plane or line.
+//! Curved geometry (100 circular arc, a curved 126 or 128, 120 surface of revolution,
+//! ...), transformation matrices (124) and every other geometric
 //! entity outside this subset are refused, naming the entity type and its directory
 //! entry (DE) number. Non-geometric entities (402 groups, 406 properties, 314 colours,
 //! ...) are ignored.
@@ -32,7 +36,7 @@ use std::io::Read;
 
 use glam::DVec3;
 
-use super::planar::{PlanarFace, soup_from_faces};
+use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, soup_from_faces};
 use super::text::read_limited;
 use super::{MeshSoup, ParseError, Place};
 
@@ -427,10 +431,16 @@ impl IgesFile {
         let mut tokens = tokens.into_iter();
         let kind = tokens.next();
         if kind != Some(Token::Text(e.kind.to_string())) {
+            let found = match &kind {
+                Some(Token::Text(t)) if t.trim().is_empty() => "an empty value".to_string(),
+                Some(Token::Text(t)) => format!("`{}`", t.trim()),
+                Some(Token::Hollerith(t)) => format!("the string \"{t}\""),
+                None => "nothing".to_string(),
+            };
             return Err(err(
                 place,
                 format!(
-                    "{what}: its parameter data starts with {kind:?}, not its type {}",
+                    "{what}: its parameter data starts with {found}, not its type {}",
                     e.kind
                 ),
                 "the directory and parameter sections disagree; export the file again",
@@ -488,7 +498,7 @@ impl IgesFile {
     fn faces(&self) -> Result<Vec<PlanarFace>, ParseError> {
         // Independent curved surfaces and solids are refused even when no solid uses them.
         for e in &self.entries {
-            if matches!(e.kind, 114 | 118 | 120 | 122 | 128 | 140 | 143 | 150..=184 | 192..=198) {
+            if matches!(e.kind, 114 | 118 | 120 | 122 | 140 | 143 | 150..=184 | 192..=198) {
                 return Err(self.refuse(e));
             }
         }
@@ -579,8 +589,29 @@ impl IgesFile {
     }
 
     fn plane_normal(&self, e: &Entry) -> Result<DVec3, ParseError> {
-        self.check(e, &[108, 190])?;
+        self.check(e, &[108, 128, 190])?;
         let mut p = self.params(e)?;
+        if e.kind == 128 {
+            // A B-spline surface whose control points are coplanar is that plane.
+            return match net_shape(&surface_net(&mut p, self.to_mm)?) {
+                NetShape::Plane(normal) => Ok(normal),
+                NetShape::Curved { deviation, tolerance } => Err(err(
+                    Place::Line(e.line),
+                    format!(
+                        "entity 128 (rational B-spline surface) at DE {} is curved: its control points lie up to \
+                         {deviation:.3e} mm off a plane (more than the {tolerance:.1e} mm tolerance); acsg reads \
+                         planar (polyhedral) solids only",
+                        e.de
+                    ),
+                    EXPORT_HINT,
+                )),
+                NetShape::Degenerate => Err(err(
+                    Place::Line(e.line),
+                    format!("{}: its control points span no area", p.what),
+                    "the file is damaged; export it again",
+                )),
+            };
+        }
         if e.kind == 108 {
             let n = DVec3::new(p.real("A")?, p.real("B")?, p.real("C")?);
             return Ok(n);
@@ -688,7 +719,10 @@ impl IgesFile {
                     )
                 })?;
             let curve = self.entry(edge[0], e, "edge curve pointer")?;
-            self.check(curve, &[110])?;
+            self.check(curve, &[110, 126])?;
+            if curve.kind == 126 {
+                self.straight_spline(curve)?;
+            }
             let a = self.vertex(edge[1], edge[2], e, &mut vertices)?;
             let b = self.vertex(edge[3], edge[4], e, &mut vertices)?;
             segments.push(if agrees { (a, b) } else { (b, a) });
@@ -744,8 +778,40 @@ impl IgesFile {
         chain(segments, &p)
     }
 
+    /// A 126 curve's end points, refusing it unless its control points are collinear.
+    fn straight_spline(&self, e: &Entry) -> Result<(DVec3, DVec3), ParseError> {
+        let mut p = self.params(e)?;
+        let curve = spline_curve(&mut p, self.to_mm)?;
+        let (deviation, tolerance) = line_deviation(&curve.points);
+        if deviation > tolerance {
+            return Err(err(
+                Place::Line(e.line),
+                format!(
+                    "entity 126 (rational B-spline curve) at DE {} is curved: its control points lie up to \
+                     {deviation:.3e} mm off a straight line (more than the {tolerance:.1e} mm tolerance); acsg reads \
+                     straight edges only",
+                    e.de
+                ),
+                EXPORT_HINT,
+            ));
+        }
+        let (a, b) = (curve.at(curve.range.0), curve.at(curve.range.1));
+        match (a, b) {
+            (Some(a), Some(b)) => Ok((a, b)),
+            _ => Err(err(
+                p.place,
+                format!("{}: its knots or weights do not define the curve at its ends", p.what),
+                "the file is damaged; export it again",
+            )),
+        }
+    }
+
     fn segments(&self, e: &Entry, depth: usize, out: &mut Vec<(DVec3, DVec3)>) -> Result<(), ParseError> {
-        self.check(e, &[102, 110])?;
+        self.check(e, &[102, 110, 126])?;
+        if e.kind == 126 {
+            out.push(self.straight_spline(e)?);
+            return Ok(());
+        }
         let mut p = self.params(e)?;
         if e.kind == 110 {
             let a = p.point(self.to_mm)?;
@@ -767,6 +833,112 @@ impl IgesFile {
         }
         Ok(())
     }
+}
+
+/// An IGES 126 rational B-spline curve: control points (mm), weights, knots, degree
+/// and parameter range.
+struct SplineCurve {
+    degree: usize,
+    knots: Vec<f64>,
+    weights: Vec<f64>,
+    points: Vec<DVec3>,
+    range: (f64, f64),
+}
+
+impl SplineCurve {
+    /// The point at parameter `u` (de Boor's algorithm in homogeneous coordinates);
+    /// `None` where the knots or weights leave it undefined.
+    fn at(&self, u: f64) -> Option<DVec3> {
+        let (m, n) = (self.degree, self.points.len());
+        if n == 0 || self.knots.len() != n + m + 1 {
+            return None;
+        }
+        // The span k with knots[k] <= u < knots[k + 1], within [m, n - 1].
+        let mut k = m;
+        while k + 1 < n && self.knots[k + 1] <= u {
+            k += 1;
+        }
+        let mut d: Vec<(DVec3, f64)> = (0..=m)
+            .map(|j| {
+                let i = (k + j).checked_sub(m)?;
+                let w = *self.weights.get(i)?;
+                Some((*self.points.get(i)? * w, w))
+            })
+            .collect::<Option<_>>()?;
+        for r in 1..=m {
+            for j in (r..=m).rev() {
+                let i = k + j - m;
+                let (lo, hi) = (self.knots[i], self.knots[i + m + 1 - r]);
+                let alpha = if hi > lo { (u - lo) / (hi - lo) } else { 0.0 };
+                d[j] = (
+                    d[j - 1].0 * (1.0 - alpha) + d[j].0 * alpha,
+                    d[j - 1].1 * (1.0 - alpha) + d[j].1 * alpha,
+                );
+            }
+        }
+        let (p, w) = d[m];
+        (w.abs() > 0.0 && p.is_finite()).then(|| p / w)
+    }
+}
+
+/// Reads the parameters of a 126 entity (after its type).
+fn spline_curve(p: &mut Params, to_mm: f64) -> Result<SplineCurve, ParseError> {
+    let k = p.count("the upper index K")?;
+    let degree = p.count("the degree M")?;
+    for name in ["PROP1", "PROP2", "PROP3", "PROP4"] {
+        p.int(name)?;
+    }
+    let knots = (0..k + degree + 2)
+        .map(|_| p.real("a knot"))
+        .collect::<Result<Vec<_>, _>>()?;
+    let weights = (0..=k).map(|_| p.real("a weight")).collect::<Result<Vec<_>, _>>()?;
+    let points = (0..=k).map(|_| p.point(to_mm)).collect::<Result<Vec<_>, _>>()?;
+    let range = (p.real("V(0)")?, p.real("V(1)")?);
+    Ok(SplineCurve {
+        degree,
+        knots,
+        weights,
+        points,
+        range,
+    })
+}
+
+/// Reads the control net of a 128 entity (after its type): `net[i][j]`, `i` along u.
+fn surface_net(p: &mut Params, to_mm: f64) -> Result<Vec<Vec<DVec3>>, ParseError> {
+    let k1 = p.count("the upper index K1")?;
+    let k2 = p.count("the upper index K2")?;
+    let m1 = p.count("the degree M1")?;
+    let m2 = p.count("the degree M2")?;
+    for name in ["PROP1", "PROP2", "PROP3", "PROP4", "PROP5"] {
+        p.int(name)?;
+    }
+    // Each control point takes a weight and three coordinates: more than the parameters
+    // hold is a damaged file (and must not size an allocation).
+    let cells = (k1 + 1)
+        .checked_mul(k2 + 1)
+        .filter(|c| c.saturating_mul(4) <= p.tokens.len());
+    let Some(cells) = cells else {
+        return Err(err(
+            p.place,
+            format!(
+                "{}: its {} x {} control points are more than its parameters hold",
+                p.what,
+                k1 + 1,
+                k2 + 1
+            ),
+            "the file is damaged or truncated; export it again",
+        ));
+    };
+    for _ in 0..(k1 + m1 + 2) + (k2 + m2 + 2) + cells {
+        p.real("a knot or weight")?;
+    }
+    let mut net = vec![Vec::with_capacity(k2 + 1); k1 + 1];
+    for _ in 0..=k2 {
+        for row in &mut net {
+            row.push(p.point(to_mm)?);
+        }
+    }
+    Ok(net)
 }
 
 /// Joins line segments head to tail into a closed chain of points (a segment stated
@@ -1063,6 +1235,49 @@ mod tests {
             ]
         );
         assert!(tokenize("9Hab;", (',', ';')).is_err());
+    }
+
+    fn params_of(text: &str) -> Params {
+        Params {
+            tokens: text.split(',').map(|t| Token::Text(t.to_string())).collect(),
+            next: 0,
+            place: Place::Whole,
+            what: "test".into(),
+        }
+    }
+
+    /// De Boor's evaluation against the Bernstein form of a quadratic Bézier arc,
+    /// polynomial and rational: B(½) = (w0 P0 + 2 w1 P1 + w2 P2) / (w0 + 2 w1 + w2).
+    #[test]
+    fn spline_curves_evaluate_at_their_ends_and_inside() {
+        let (p0, p1, p2) = (
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 2.0, 0.0),
+            DVec3::new(4.0, 0.0, 1.0),
+        );
+        for (w0, w1, w2) in [(1.0, 1.0, 1.0), (1.0, 2.0, 0.5)] {
+            let text = format!(
+                "2,2,0,0,0,0,0.,0.,0.,1.,1.,1.,{w0},{w1},{w2},{},{},{},{},{},{},{},{},{},0.,1.",
+                p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z
+            );
+            let curve = spline_curve(&mut params_of(&text), 1.0).unwrap();
+            assert!(curve.at(0.0).unwrap().abs_diff_eq(p0, 1e-12));
+            assert!(curve.at(1.0).unwrap().abs_diff_eq(p2, 1e-12));
+            let half = (p0 * w0 + p1 * (2.0 * w1) + p2 * w2) / (w0 + 2.0 * w1 + w2);
+            assert!(curve.at(0.5).unwrap().abs_diff_eq(half, 1e-12), "{:?}", curve.at(0.5));
+            // Three points not on a line: curved.
+            let (deviation, tolerance) = line_deviation(&curve.points);
+            assert!(deviation > tolerance);
+        }
+        // Knots that do not fit the count leave the curve undefined, without a panic.
+        let mut curve = spline_curve(
+            &mut params_of("1,1,0,0,0,0,0.,0.,1.,1.,1.,1.,0.,0.,0.,1.,0.,0.,0.,1."),
+            1.0,
+        )
+        .unwrap();
+        assert!(curve.at(0.5).unwrap().abs_diff_eq(DVec3::new(0.5, 0.0, 0.0), 1e-12));
+        curve.knots.pop();
+        assert_eq!(curve.at(0.5), None);
     }
 
     #[test]

@@ -27,6 +27,90 @@ pub(crate) struct PlanarFace {
 /// Relative tolerance (times the model's size) for points on their face's plane.
 const PLANE_REL: f64 = 1e-6;
 
+/// How a B-spline (or Bézier) surface's control net lies: a rational or polynomial
+/// B-spline surface is an affine combination of its control points, so when they are
+/// coplanar the surface lies in their plane, whatever its degree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum NetShape {
+    /// Coplanar within the tolerance: the surface's own normal `S_u × S_v` direction.
+    Plane(DVec3),
+    /// Curved: the largest distance of a control point from the best plane, and the
+    /// tolerance it exceeds.
+    Curved {
+        /// Largest distance from the plane.
+        deviation: f64,
+        /// The tolerance.
+        tolerance: f64,
+    },
+    /// The net spans no area (all points on a line or one point).
+    Degenerate,
+}
+
+/// The shape of a control net `net[i][j]`, `i` along u and `j` along v. The normal
+/// is the sum of the net's cells' `ΔP_u × ΔP_v`, which points along `S_u × S_v` for a
+/// planar surface; coplanarity is checked against [`crate::tolerance::COPLANAR_REL`]
+/// times the net's diagonal.
+pub(crate) fn net_shape(net: &[Vec<DVec3>]) -> NetShape {
+    let mut normal = DVec3::ZERO;
+    for i in 0..net.len().saturating_sub(1) {
+        let (row, next) = (&net[i], &net[i + 1]);
+        for j in 0..row.len().min(next.len()).saturating_sub(1) {
+            normal += (next[j] - row[j]).cross(row[j + 1] - row[j]);
+        }
+    }
+    let points: Vec<DVec3> = net.iter().flatten().copied().collect();
+    let (lo, hi) = points
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let size = (hi - lo).length();
+    if !(size.is_finite() && size > 0.0) || normal.length() <= 1e-12 * size * size {
+        return NetShape::Degenerate;
+    }
+    let n = normal.normalize();
+    let centre = points.iter().copied().sum::<DVec3>() / points.len() as f64;
+    let deviation = points.iter().map(|p| (*p - centre).dot(n).abs()).fold(0.0, f64::max);
+    let tolerance = crate::tolerance::COPLANAR_REL * size;
+    if deviation <= tolerance {
+        NetShape::Plane(n)
+    } else {
+        NetShape::Curved { deviation, tolerance }
+    }
+}
+
+/// The largest distance of `points` from the line through the first and the farthest
+/// of them, and the tolerance ([`crate::tolerance::COPLANAR_REL`] times their extent):
+/// a B-spline curve is an affine combination of its control points, so collinear
+/// control points make a straight curve.
+pub(crate) fn line_deviation(points: &[DVec3]) -> (f64, f64) {
+    let Some(&first) = points.first() else {
+        return (0.0, 0.0);
+    };
+    let far = points
+        .iter()
+        .copied()
+        .max_by(|a, b| a.distance(first).total_cmp(&b.distance(first)))
+        .unwrap_or(first);
+    let extent = far.distance(first);
+    if !(extent.is_finite() && extent > 0.0) {
+        return (0.0, 0.0);
+    }
+    let d = (far - first) / extent;
+    let deviation = points
+        .iter()
+        .map(|p| (*p - first).reject_from_normalized(d).length())
+        .fold(0.0, f64::max);
+    (deviation, crate::tolerance::COPLANAR_REL * extent)
+}
+
+/// Newell's normal of a polygon (its length is twice the area), counter-clockwise
+/// order giving the normal the right-hand rule says.
+pub(crate) fn newell(points: &[DVec3]) -> DVec3 {
+    let n = points.len();
+    (0..n).map(|i| points[i].cross(points[(i + 1) % n])).sum::<DVec3>() / 2.0
+}
+
 fn signed_area(points: &[DVec2]) -> f64 {
     let n = points.len();
     (0..n).map(|i| points[i].perp_dot(points[(i + 1) % n])).sum::<f64>() / 2.0
@@ -293,6 +377,32 @@ fn insert_dropped_points(triangles: &mut Vec<[usize; 3]>, points: &[DVec2], tole
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn control_nets_and_polygons_are_told_flat_or_curved() {
+        // A chamfer: the bilinear patch of four coplanar points, normal u × v.
+        let net = vec![
+            vec![DVec3::new(0.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0)],
+            vec![DVec3::new(1.0, 0.0, 1.0), DVec3::new(1.0, 1.0, 1.0)],
+        ];
+        let NetShape::Plane(n) = net_shape(&net) else {
+            panic!("{:?}", net_shape(&net))
+        };
+        let expected = DVec3::new(1.0, 0.0, 1.0).cross(DVec3::Y).normalize();
+        assert!(n.abs_diff_eq(expected, 1e-12), "{n}");
+        // A twisted patch (hyperbolic paraboloid) is curved.
+        let twisted = vec![
+            vec![DVec3::new(0.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0)],
+            vec![DVec3::new(1.0, 0.0, 0.0), DVec3::new(1.0, 1.0, 0.5)],
+        ];
+        assert!(matches!(net_shape(&twisted), NetShape::Curved { deviation, .. } if deviation > 0.1));
+        let line = vec![vec![DVec3::ZERO, DVec3::X, DVec3::X * 2.0]];
+        assert_eq!(net_shape(&line), NetShape::Degenerate);
+        let (dev, tol) = line_deviation(&[DVec3::ZERO, DVec3::X * 5.0, DVec3::X * 10.0]);
+        assert!(dev <= tol);
+        let (dev, tol) = line_deviation(&[DVec3::ZERO, DVec3::new(5.0, 1.0, 0.0), DVec3::X * 10.0]);
+        assert!((dev - 1.0).abs() < 1e-12 && dev > tol);
+    }
 
     fn square(x0: f64, x1: f64, z: f64) -> Vec<DVec3> {
         vec![

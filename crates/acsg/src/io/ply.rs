@@ -243,7 +243,15 @@ fn scan_header(bytes: &[u8]) -> Result<HeaderScan, ParseError> {
                 });
             }
             Some("element") => {
-                let name = words.next().unwrap_or_default().to_owned();
+                let (name, count) = (words.next(), words.next());
+                if name.is_none() || count.is_none_or(|c| c.parse::<u64>().is_err()) || words.next().is_some() {
+                    return Err(header_line_error(
+                        number,
+                        &text,
+                        "an element line is `element <name> <count>`, the count a whole number",
+                    ));
+                }
+                let name = name.unwrap_or_default().to_owned();
                 if let Some(first) = elements.iter().find(|e| e.name == name) {
                     return Err(ParseError::new(
                         Place::Line(number),
@@ -258,6 +266,24 @@ fn scan_header(bytes: &[u8]) -> Result<HeaderScan, ParseError> {
                 });
             }
             Some("property") => {
+                let rest: Vec<&str> = words.collect();
+                let known = |t: &str| SCALAR_TYPES.contains(&t);
+                let well_formed = match rest.as_slice() {
+                    ["list", count, item, _name] => known(count) && known(item),
+                    [kind, _name] => known(kind),
+                    _ => false,
+                };
+                if !well_formed {
+                    return Err(header_line_error(
+                        number,
+                        &text,
+                        &format!(
+                            "a property line is `property <type> <name>` or `property list <count type> <item type> <name>`, \
+                             types among {}",
+                            SCALAR_TYPES.join(", ")
+                        ),
+                    ));
+                }
                 let name = text.split_whitespace().last().unwrap_or_default().to_owned();
                 if let Some(element) = elements.last_mut() {
                     if let Some((_, first_line)) = element.properties.iter().find(|(p, _)| *p == name) {
@@ -273,7 +299,27 @@ fn scan_header(bytes: &[u8]) -> Result<HeaderScan, ParseError> {
                     element.properties.push((name, number));
                 }
             }
-            _ => {}
+            Some("format") => {
+                let encodings = ["ascii", "binary_little_endian", "binary_big_endian"];
+                let (encoding, version) = (words.next(), words.next());
+                if !encoding.is_some_and(|e| encodings.contains(&e)) || version != Some("1.0") {
+                    return Err(header_line_error(
+                        number,
+                        &text,
+                        "the format line is `format ascii 1.0`, `format binary_little_endian 1.0` or \
+                         `format binary_big_endian 1.0`",
+                    ));
+                }
+            }
+            Some("comment" | "obj_info") | None => {}
+            Some(_) => {
+                return Err(header_line_error(
+                    number,
+                    &text,
+                    "each header line starts with `format`, `element`, `property`, `comment`, `obj_info` or \
+                     `end_header`",
+                ));
+            }
         }
     }
     let last = lines.last_line().max(1);
@@ -285,6 +331,23 @@ fn scan_header(bytes: &[u8]) -> Result<HeaderScan, ParseError> {
 }
 
 /// The text of a `ply-rs-bw` error, without its line prefix, on one line.
+/// The scalar type names of PLY headers.
+const SCALAR_TYPES: [&str; 16] = [
+    "char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8", "int16", "uint16", "int32",
+    "uint32", "float32", "float64",
+];
+
+/// A header line this reader cannot read, quoted, with what such a line looks like.
+fn header_line_error(line: usize, text: &str, expected: &str) -> ParseError {
+    ParseError::new(
+        Place::Line(line),
+        format!("the header line `{}` cannot be read", quote(text.trim())),
+        format!("{expected}; export the model again"),
+    )
+}
+
+/// The `ply-rs-bw` parser's message in plain words: its debug dump of the grammar's
+/// expectations (`Error: ParseError { ... }`) is dropped.
 fn ply_message(error: &ply_rs_bw::parser::ParseError) -> String {
     let text = error.to_string();
     let text = match error.line() {
@@ -293,8 +356,10 @@ fn ply_message(error: &ply_rs_bw::parser::ParseError) -> String {
             .map_or(text.clone(), str::to_owned),
         None => text,
     };
+    let text = text.split("Error: ParseError").next().unwrap_or_default().to_string();
+    let text = text.replace("Couldn't parse line.", "cannot read the line");
     text.split(['\n', '\t'])
-        .map(str::trim)
+        .map(|part| part.trim().trim_end_matches(';').trim())
         .filter(|part| !part.is_empty())
         .collect::<Vec<_>>()
         .join("; ")
@@ -762,7 +827,31 @@ end_header
         assert!(e.problem.contains("no `end_header`"), "{e}");
         let e = err(b"ply\nformat ascii 1.0\nelemnt vertex 1\nend_header\n");
         assert_eq!(e.place, Place::Line(3));
-        assert!(e.problem.starts_with("invalid PLY header"), "{e}");
+        assert!(e.problem.contains("`elemnt vertex 1` cannot be read"), "{e}");
+        assert!(e.fix.contains("each header line starts with"), "{e}");
+        for (text, line, fix) in [
+            (
+                &b"ply\nformat ascii 1.0\nelement vertex 1\nproperty flot x\nend_header\n"[..],
+                4,
+                "property <type> <name>",
+            ),
+            (b"ply\nformat ascii 2.0\nend_header\n", 2, "format ascii 1.0"),
+            (
+                b"ply\nformat ascii 1.0\nelement vertex x\nend_header\n",
+                3,
+                "the count a whole number",
+            ),
+            (
+                b"ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar x\nend_header\n",
+                4,
+                "property list",
+            ),
+        ] {
+            let e = err(text);
+            assert_eq!(e.place, Place::Line(line), "{e}");
+            assert!(e.fix.contains(fix), "{e}");
+            assert!(!format!("{e}").contains("ParseError"), "{e}");
+        }
         let e = err(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float x\nend_header\n");
         assert_eq!(e.place, Place::Line(5));
         assert!(e.problem.contains("declared twice (first on line 4)"), "{e}");

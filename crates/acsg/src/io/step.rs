@@ -14,9 +14,13 @@
 //! any prefix, or a `CONVERSION_BASED_UNIT` (inch, foot, ...) through its
 //! `LENGTH_MEASURE_WITH_UNIT`.
 //!
-//! Curved surfaces (`CYLINDRICAL_SURFACE`, `B_SPLINE_SURFACE_WITH_KNOTS`, ...), curved
-//! edges (`CIRCLE`, `B_SPLINE_CURVE_WITH_KNOTS`, ...) and solids with voids are refused,
-//! naming the instance (`#id` and type).
+//! A B-spline or Bézier surface (`B_SPLINE_SURFACE_WITH_KNOTS`, rational complex
+//! instances included) whose control points are coplanar is read as its plane, and a
+//! B-spline curve, `TRIMMED_CURVE` of a line or `POLYLINE` whose points are collinear
+//! as its line (within [`crate::tolerance::COPLANAR_REL`] of their size): OpenCASCADE
+//! writes chamfers so. Curved surfaces (`CYLINDRICAL_SURFACE`, a B-spline off its
+//! plane, ...), curved edges (`CIRCLE`, ...) and solids with voids are refused, naming
+//! the instance (`#id` and type).
 //!
 //! Why not `truck-stepio` (0.3.0, the crate DOMAIN.md names): measured on this 2-core
 //! machine, a clean build of it with the workspace's profile (dependencies at
@@ -33,13 +37,13 @@ use std::io::Read;
 
 use glam::DVec3;
 
-use super::planar::{PlanarFace, soup_from_faces};
+use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, newell, soup_from_faces};
 use super::text::read_limited;
 use super::{MeshSoup, ParseError, Place};
 
 /// What every refusal suggests.
-const EXPORT_HINT: &str =
-    "export the part as a planar (faceted) solid, e.g. STEP AP214 with planar faces, or as a mesh (OFF, STL, OBJ, PLY)";
+const EXPORT_HINT: &str = "export the part as a planar (faceted) solid, e.g. STEP AP214 with planar faces, or as a mesh \
+     (OFF, STL, OBJ, PLY); cylinders, cones and circles can also be read as facets with --facet MM";
 
 /// Nesting limit for lists and typed parameters.
 const MAX_DEPTH: usize = 32;
@@ -87,13 +91,33 @@ impl Instance {
 /// curved surface or edge, a broken reference, a non-planar face or a loop that does
 /// not close.
 pub fn read(reader: impl Read) -> Result<MeshSoup, ParseError> {
+    read_faceted(reader, None)
+}
+
+/// [`read`], with cylindrical and conical faces and circular edges made planar facets
+/// when `facet_mm` gives a chord tolerance (millimetres): every circle becomes a
+/// polygon inscribed in it whose sides stray at most that far from the arc (the same
+/// number of sides, a power of two, for every circle of the file: the one the largest
+/// circle needs), and a cylinder or cone between two full circles becomes the band of
+/// planar quadrilaterals between their polygons.
+///
+/// # Errors
+/// Those of [`read`]; with `facet_mm`, a curved face other than a full cylinder or cone
+/// between two circles is refused by name.
+pub fn read_faceted(reader: impl Read, facet_mm: Option<f64>) -> Result<MeshSoup, ParseError> {
     let bytes = read_limited(reader)?;
     let text = String::from_utf8_lossy(&bytes);
     let instances = parse(&text)?;
-    let model = Model {
+    let mut model = Model {
         to_mm: length_unit(&instances)?,
         instances,
+        facet: None,
     };
+    if let Some(tolerance) = facet_mm {
+        model.facet = Some(Facet {
+            sides: model.circle_sides(tolerance)?,
+        });
+    }
     let faces = model.faces()?;
     soup_from_faces(faces, EXPORT_HINT)
 }
@@ -525,6 +549,40 @@ fn length_unit(instances: &HashMap<u64, Instance>) -> Result<f64, ParseError> {
 struct Model {
     instances: HashMap<u64, Instance>,
     to_mm: f64,
+    /// How circles are faceted, when they are.
+    facet: Option<Facet>,
+}
+
+/// Faceting of circles: `sides` per full circle (from the chord tolerance).
+#[derive(Clone, Copy, Debug)]
+struct Facet {
+    sides: usize,
+}
+
+/// The most sides a faceted circle may have.
+const MAX_SIDES: usize = 1 << 16;
+
+/// A circle in millimetres: centre, in-plane axes (`x` the placement's reference
+/// direction), normal `axis`, radius.
+#[derive(Clone, Copy, Debug)]
+struct Circle {
+    centre: DVec3,
+    x: DVec3,
+    y: DVec3,
+    axis: DVec3,
+    radius: f64,
+}
+
+impl Circle {
+    fn at(&self, angle: f64) -> DVec3 {
+        self.centre + self.radius * (angle.cos() * self.x + angle.sin() * self.y)
+    }
+
+    /// The angle of `p` about the axis, in [0, 2π).
+    fn angle(&self, p: DVec3) -> f64 {
+        let d = p - self.centre;
+        d.dot(self.y).atan2(d.dot(self.x)).rem_euclid(std::f64::consts::TAU)
+    }
 }
 
 /// Entities that make a face or an edge curved.
@@ -551,6 +609,24 @@ const CURVED: &[&str] = &[
     "RATIONAL_B_SPLINE_CURVE",
     "TRIMMED_CURVE",
     "OFFSET_CURVE_3D",
+];
+
+/// Surfaces read as planes when their control points are coplanar.
+const SPLINE_SURFACES: &[&str] = &[
+    "B_SPLINE_SURFACE_WITH_KNOTS",
+    "B_SPLINE_SURFACE",
+    "BEZIER_SURFACE",
+    "UNIFORM_SURFACE",
+    "QUASI_UNIFORM_SURFACE",
+];
+
+/// Curves read as straight edges when their control points are collinear.
+const SPLINE_CURVES: &[&str] = &[
+    "B_SPLINE_CURVE_WITH_KNOTS",
+    "B_SPLINE_CURVE",
+    "BEZIER_CURVE",
+    "UNIFORM_CURVE",
+    "QUASI_UNIFORM_CURVE",
 ];
 
 impl Model {
@@ -689,13 +765,19 @@ impl Model {
             };
             for f in list {
                 let f = self.reference(shell, s, Some(f), "face")?;
-                faces.push(self.face(f, (shell, s), true, 0)?);
+                faces.extend(self.face(f, (shell, s), true, 0)?);
             }
         }
         Ok(faces)
     }
 
-    fn face(&self, id: u64, from: (u64, &Instance), outward: bool, depth: usize) -> Result<PlanarFace, ParseError> {
+    fn face(
+        &self,
+        id: u64,
+        from: (u64, &Instance),
+        outward: bool,
+        depth: usize,
+    ) -> Result<Vec<PlanarFace>, ParseError> {
         let f = self.get(id, from, "face")?;
         let (kind, args) = self.args(id, f, &["ADVANCED_FACE", "FACE_SURFACE", "ORIENTED_FACE"])?;
         if kind == "ORIENTED_FACE" {
@@ -708,10 +790,16 @@ impl Model {
         }
         let surface = self.reference(id, f, args.get(2), "surface")?;
         let same_sense = self.logical(id, f, args.get(3), "same_sense flag")?;
-        let normal = self.plane_normal(surface, (id, f))?;
         let Some(Value::List(bounds)) = args.get(1) else {
             return Err(self.bad(id, f, "its bounds are not a list"));
         };
+        if let Some(facet) = self.facet {
+            let s = self.get(surface, (id, f), "surface")?;
+            if s.part("CYLINDRICAL_SURFACE").is_some() || s.part("CONICAL_SURFACE").is_some() {
+                return self.round_face((id, f), (surface, s), bounds, outward == same_sense, facet);
+            }
+        }
+        let normal = self.plane_normal(surface, (id, f))?;
         let mut loops = Vec::with_capacity(bounds.len());
         let mut outer = None;
         for b in bounds {
@@ -724,17 +812,285 @@ impl Model {
             let l = self.reference(b, bi, bargs.get(1), "loop")?;
             loops.push(self.loop_points(l, (b, bi))?);
         }
-        Ok(PlanarFace {
+        Ok(vec![PlanarFace {
             normal: if outward == same_sense { normal } else { -normal },
             loops,
             outer,
             name: format!("face #{id}"),
             place: Place::Line(f.line),
+        }])
+    }
+
+    /// The sides of every faceted circle: the fewest (a power of two, at least 8) for
+    /// which the largest circle of the file strays at most `tolerance` mm from its
+    /// polygon (`r (1 - cos(π / n)) <= tolerance`).
+    fn circle_sides(&self, tolerance: f64) -> Result<usize, ParseError> {
+        let mut largest = 0.0_f64;
+        for (&id, instance) in &self.instances {
+            if instance.part("CIRCLE").is_some() {
+                largest = largest.max(self.circle(id, (id, instance))?.radius);
+            }
+        }
+        let mut sides = 8;
+        while largest * (1.0 - (std::f64::consts::PI / sides as f64).cos()) > tolerance {
+            sides *= 2;
+            if sides > MAX_SIDES {
+                return Err(ParseError::new(
+                    Place::Whole,
+                    format!(
+                        "a chord tolerance of {tolerance:e} mm needs more than {MAX_SIDES} sides for the circle of radius \
+                         {largest} mm"
+                    ),
+                    "give a larger --facet tolerance",
+                ));
+            }
+        }
+        Ok(sides)
+    }
+
+    /// A CIRCLE instance in millimetres.
+    fn circle(&self, id: u64, from: (u64, &Instance)) -> Result<Circle, ParseError> {
+        let c = self.get(id, from, "circle")?;
+        let (_, args) = self.args(id, c, &["CIRCLE"])?;
+        let placement = self.reference(id, c, args.get(1), "placement")?;
+        let radius = match args.get(2) {
+            Some(Value::Number(r)) if r.is_finite() && *r > 0.0 => r * self.to_mm,
+            _ => return Err(self.bad(id, c, "its radius is not a positive number")),
+        };
+        let (centre, axis, x) = self.placement(placement, (id, c))?;
+        Ok(Circle {
+            centre,
+            x,
+            y: axis.cross(x),
+            axis,
+            radius,
         })
+    }
+
+    /// An AXIS2_PLACEMENT_3D: origin (mm), unit axis, unit reference direction
+    /// perpendicular to it.
+    fn placement(&self, id: u64, from: (u64, &Instance)) -> Result<(DVec3, DVec3, DVec3), ParseError> {
+        let p = self.get(id, from, "placement")?;
+        let (_, args) = self.args(id, p, &["AXIS2_PLACEMENT_3D"])?;
+        let origin = self.point(self.reference(id, p, args.get(1), "location")?, (id, p))?;
+        let axis = match args.get(2) {
+            Some(Value::Ref(r)) => self.direction(*r, (id, p))?,
+            _ => DVec3::Z,
+        };
+        let reference = match args.get(3) {
+            Some(Value::Ref(r)) => self.direction(*r, (id, p))?,
+            _ => DVec3::X,
+        };
+        let axis = axis
+            .try_normalize()
+            .ok_or_else(|| self.bad(id, p, "its axis is zero"))?;
+        let x = reference
+            .reject_from_normalized(axis)
+            .try_normalize()
+            .or_else(|| axis.any_orthonormal_vector().try_normalize())
+            .ok_or_else(|| self.bad(id, p, "its reference direction is zero"))?;
+        Ok((origin, axis, x))
+    }
+
+    /// The circle an edge curve is, through surface, seam and trimmed curves; `None`
+    /// for any other curve.
+    fn circle_of(&self, id: u64, from: (u64, &Instance), depth: usize) -> Result<Option<Circle>, ParseError> {
+        let c = self.get(id, from, "curve")?;
+        if c.part("CIRCLE").is_some() {
+            return self.circle(id, from).map(Some);
+        }
+        for wrapper in ["SURFACE_CURVE", "SEAM_CURVE", "TRIMMED_CURVE"] {
+            if let Some(args) = c.part(wrapper)
+                && depth < 4
+            {
+                let inner = self.reference(id, c, args.get(1), "curve")?;
+                return self.circle_of(inner, (id, c), depth + 1);
+            }
+        }
+        Ok(None)
+    }
+
+    /// The points of a faceted circular edge from `start` to `end` (both included):
+    /// a full circle (`start` = `end`) is the polygon of `sides` corners from `start`,
+    /// counter-clockwise about the axis; an arc takes the corners of the circle's own
+    /// polygon (from its reference direction) that lie on it. `ccw` is the edge's
+    /// direction about the axis (the circle's, unless the edge's sense flag is false).
+    fn arc_points(circle: &Circle, start: DVec3, end: DVec3, ccw: bool, sides: usize, full: bool) -> Vec<DVec3> {
+        use std::f64::consts::TAU;
+        let step = TAU / sides as f64;
+        if full {
+            let a0 = circle.angle(start);
+            let mut points: Vec<DVec3> = (0..sides).map(|k| circle.at(a0 + step * k as f64)).collect();
+            points[0] = start;
+            points.push(start);
+            if !ccw {
+                points.reverse();
+            }
+            return points;
+        }
+        // Walk counter-clockwise from the arc's first point to its last.
+        let (from, to) = if ccw { (start, end) } else { (end, start) };
+        let (a, mut b) = (circle.angle(from), circle.angle(to));
+        if b <= a {
+            b += TAU;
+        }
+        let mut points = vec![from];
+        let first = (a / step).floor() as i64 + 1;
+        let mut k = first;
+        loop {
+            let angle = step * k as f64;
+            if angle >= b - 1e-12 || points.len() > sides + 1 {
+                break;
+            }
+            points.push(circle.at(angle));
+            k += 1;
+        }
+        points.push(to);
+        if !ccw {
+            points.reverse();
+        }
+        points
+    }
+
+    /// A cylindrical or conical face made planar facets: the band of quadrilaterals
+    /// between the polygons of the two full circles that bound it (its seam edges are
+    /// dropped). `outward` says whether the face's normal is the surface's (away from
+    /// the axis).
+    fn round_face(
+        &self,
+        (id, f): (u64, &Instance),
+        (surface_id, surface): (u64, &Instance),
+        bounds: &[Value],
+        outward: bool,
+        facet: Facet,
+    ) -> Result<Vec<PlanarFace>, ParseError> {
+        let kind = surface.type_name();
+        let refuse = |why: &str| {
+            ParseError::new(
+                Place::Line(f.line),
+                format!("face #{id} on #{surface_id} {kind}: {why}"),
+                format!(
+                    "--facet makes planar facets of a whole cylinder or cone between two circles only; {EXPORT_HINT}"
+                ),
+            )
+        };
+        let args = surface
+            .part("CYLINDRICAL_SURFACE")
+            .or_else(|| surface.part("CONICAL_SURFACE"))
+            .unwrap_or_default();
+        let placement = self.reference(surface_id, surface, args.get(1), "placement")?;
+        let (origin, axis, _) = self.placement(placement, (surface_id, surface))?;
+        // The full circles among the face's edges.
+        let mut circles: Vec<(Circle, DVec3)> = Vec::new();
+        for b in bounds {
+            let b = self.reference(id, f, Some(b), "bound")?;
+            let bi = self.get(b, (id, f), "bound")?;
+            let (_, bargs) = self.args(b, bi, &["FACE_OUTER_BOUND", "FACE_BOUND"])?;
+            let l = self.reference(b, bi, bargs.get(1), "loop")?;
+            let li = self.get(l, (b, bi), "loop")?;
+            let (_, largs) = self.args(l, li, &["EDGE_LOOP"])?;
+            let Some(Value::List(items)) = largs.get(1) else {
+                return Err(self.bad(l, li, "its edges are not a list"));
+            };
+            for item in items {
+                let oe = self.reference(l, li, Some(item), "oriented edge")?;
+                let o = self.get(oe, (l, li), "oriented edge")?;
+                let (_, oargs) = self.args(oe, o, &["ORIENTED_EDGE"])?;
+                let edge = self.reference(oe, o, oargs.get(3), "edge element")?;
+                let e = self.get(edge, (oe, o), "edge")?;
+                let (_, eargs) = self.args(edge, e, &["EDGE_CURVE"])?;
+                let start = self.vertex(self.reference(edge, e, eargs.get(1), "start vertex")?, (edge, e))?;
+                let end = self.vertex(self.reference(edge, e, eargs.get(2), "end vertex")?, (edge, e))?;
+                let curve = self.reference(edge, e, eargs.get(3), "curve")?;
+                match self.circle_of(curve, (edge, e), 0)? {
+                    Some(circle) if start.distance(end) <= 1e-9 * circle.radius.max(1.0) => {
+                        circles.push((circle, start));
+                    }
+                    Some(_) => return Err(refuse("it is bounded by an arc, not a whole circle")),
+                    None => {
+                        // A seam: a straight edge along the surface (dropped).
+                        self.check_line(curve, (edge, e), 0)?;
+                    }
+                }
+            }
+        }
+        let [(a, a_start), (b, b_start)] = circles.as_slice() else {
+            return Err(refuse(&format!(
+                "it is bounded by {} whole circles, not two",
+                circles.len()
+            )));
+        };
+        let sides = facet.sides;
+        let ring = |c: &Circle, start: DVec3| Self::arc_points(c, start, start, true, sides, true);
+        let mut ring_a = ring(a, *a_start);
+        let mut ring_b = ring(b, *b_start);
+        ring_a.pop();
+        ring_b.pop();
+        // Both rings counter-clockwise about the surface's axis.
+        if a.axis.dot(axis) < 0.0 {
+            ring_a[1..].reverse();
+        }
+        if b.axis.dot(axis) < 0.0 {
+            ring_b[1..].reverse();
+        }
+        // Corner k of each ring must lie on the same line through the axis.
+        let about = |p: DVec3| {
+            let d = (p - origin).reject_from_normalized(axis);
+            d.try_normalize().unwrap_or(DVec3::ZERO)
+        };
+        for (p, q) in ring_a.iter().zip(&ring_b) {
+            if about(*p).distance(about(*q)) > 1e-6 {
+                return Err(refuse(
+                    "its two circles do not start at the same angle about the axis (their seam is not straight)",
+                ));
+            }
+        }
+        let mut facets = Vec::with_capacity(sides);
+        for k in 0..sides {
+            let n = (k + 1) % sides;
+            let quad = vec![ring_a[k], ring_a[n], ring_b[n], ring_b[k]];
+            let mut normal = newell(&quad);
+            let centre = quad.iter().copied().sum::<DVec3>() / 4.0;
+            if normal.dot((centre - origin).reject_from_normalized(axis)) < 0.0 {
+                normal = -normal;
+            }
+            // A cone's apex ring has no area: no facet there.
+            let scale = a.radius.max(b.radius);
+            if normal.length() <= 1e-12 * scale * scale {
+                continue;
+            }
+            facets.push(PlanarFace {
+                normal: if outward { normal } else { -normal },
+                loops: vec![quad],
+                outer: Some(0),
+                name: format!("facet {k} of face #{id}"),
+                place: Place::Line(f.line),
+            });
+        }
+        Ok(facets)
     }
 
     fn plane_normal(&self, id: u64, from: (u64, &Instance)) -> Result<DVec3, ParseError> {
         let s = self.get(id, from, "surface")?;
+        if s.part("PLANE").is_none()
+            && let Some(net) = self.spline_net(id, s, SPLINE_SURFACES)?
+        {
+            // A B-spline surface whose control points are coplanar is that plane
+            // (OpenCASCADE writes chamfers so).
+            return match net_shape(&net) {
+                NetShape::Plane(normal) => Ok(normal),
+                NetShape::Curved { deviation, tolerance } => Err(ParseError::new(
+                    Place::Line(s.line),
+                    format!(
+                        "#{id} {} is curved: its control points lie up to {deviation:.3e} mm off a plane (more \
+                         than the {tolerance:.1e} mm tolerance); acsg reads planar (polyhedral) solids only",
+                        s.type_name()
+                    ),
+                    EXPORT_HINT,
+                )),
+                NetShape::Degenerate => Err(self.bad(id, s, "its control points span no area")),
+            };
+        }
         let (_, args) = self.args(id, s, &["PLANE"])?;
         let placement = self.reference(id, s, args.get(1), "placement")?;
         let p = self.get(placement, (id, s), "placement")?;
@@ -742,6 +1098,60 @@ impl Model {
         match pargs.get(2) {
             Some(Value::Ref(axis)) => self.direction(*axis, (placement, p)),
             _ => Ok(DVec3::Z),
+        }
+    }
+
+    /// The control points of a B-spline or Bézier surface (rows along u) or curve (one
+    /// row), in millimetres: the first list of references (of lists of references, for
+    /// a surface) in one of the instance's `kinds` parts. A simple instance has its
+    /// name first; a complex (rational) one keeps the points in its `B_SPLINE_*` part.
+    /// `None` when the instance is none of `kinds`.
+    fn spline_net(&self, id: u64, instance: &Instance, kinds: &[&str]) -> Result<Option<Vec<Vec<DVec3>>>, ParseError> {
+        let refs = |list: &[Value]| -> Option<Vec<u64>> {
+            list.iter()
+                .map(|v| match v {
+                    Value::Ref(r) => Some(*r),
+                    _ => None,
+                })
+                .collect()
+        };
+        let mut found = false;
+        for (name, args) in &instance.parts {
+            if !kinds.contains(&name.as_str()) {
+                continue;
+            }
+            found = true;
+            for arg in args {
+                let Value::List(items) = arg else { continue };
+                let rows: Option<Vec<Vec<u64>>> = if kinds == SPLINE_SURFACES {
+                    items
+                        .iter()
+                        .map(|row| match row {
+                            Value::List(row) => refs(row),
+                            _ => None,
+                        })
+                        .collect()
+                } else {
+                    refs(items).map(|row| vec![row])
+                };
+                let Some(rows) = rows.filter(|r| !r.is_empty() && r.iter().all(|row| !row.is_empty())) else {
+                    continue;
+                };
+                let mut net = Vec::with_capacity(rows.len());
+                for row in rows {
+                    net.push(
+                        row.into_iter()
+                            .map(|r| self.point(r, (id, instance)))
+                            .collect::<Result<Vec<_>, _>>()?,
+                    );
+                }
+                return Ok(Some(net));
+            }
+        }
+        if found {
+            Err(self.bad(id, instance, "its control points are not a list of points"))
+        } else {
+            Ok(None)
         }
     }
 
@@ -765,7 +1175,10 @@ impl Model {
         }
         let mut points = Vec::with_capacity(items.len());
         let mut ends = Vec::with_capacity(items.len());
+        // Where each edge's points begin in `points`.
+        let mut starts = Vec::with_capacity(items.len());
         for item in items {
+            starts.push(points.len());
             let oe = self.reference(id, l, Some(item), "oriented edge")?;
             let o = self.get(oe, (id, l), "oriented edge")?;
             let (_, oargs) = self.args(oe, o, &["ORIENTED_EDGE"])?;
@@ -776,16 +1189,32 @@ impl Model {
             let start = self.vertex(self.reference(edge, e, eargs.get(1), "start vertex")?, (edge, e))?;
             let end = self.vertex(self.reference(edge, e, eargs.get(2), "end vertex")?, (edge, e))?;
             let curve = self.reference(edge, e, eargs.get(3), "curve")?;
-            self.check_line(curve, (edge, e), 0)?;
-            let (a, b) = if forward { (start, end) } else { (end, start) };
-            points.push(a);
+            let circle = match self.facet {
+                Some(_) => self.circle_of(curve, (edge, e), 0)?,
+                None => None,
+            };
+            let mut chain = match (circle, self.facet) {
+                (Some(circle), Some(facet)) => {
+                    let sense = !matches!(eargs.get(4), Some(Value::Enum(v)) if v == "F");
+                    let full = start.distance(end) <= 1e-9 * circle.radius.max(1.0);
+                    Self::arc_points(&circle, start, end, sense, facet.sides, full)
+                }
+                _ => {
+                    self.check_line(curve, (edge, e), 0)?;
+                    vec![start, end]
+                }
+            };
+            if !forward {
+                chain.reverse();
+            }
+            let b = chain.pop().unwrap_or(end);
+            points.extend(chain);
             ends.push((oe, o, b));
         }
         // The oriented edges must join head to tail.
-        let n = points.len();
         let size = points.iter().map(|p| p.abs().max_element()).fold(1.0, f64::max);
         for (k, (oe, o, end)) in ends.iter().enumerate() {
-            let next = points[(k + 1) % n];
+            let next = starts.get(k + 1).or(starts.first()).map_or(*end, |&i| points[i]);
             if end.distance(next) > 1e-7 * size {
                 return Err(ParseError::new(
                     Place::Line(o.line),
@@ -803,27 +1232,59 @@ impl Model {
         self.point(self.reference(id, v, args.get(1), "point")?, (id, v))
     }
 
-    /// An edge's geometry must be straight: a LINE (also as a surface curve's 3D curve)
-    /// or a two-point POLYLINE.
+    /// An edge's geometry must be straight: a LINE (also as a surface curve's 3D curve
+    /// or a trimmed curve's basis), a POLYLINE or a B-spline or Bézier curve whose
+    /// points are collinear (within [`crate::tolerance::COPLANAR_REL`] of their extent).
     fn check_line(&self, id: u64, from: (u64, &Instance), depth: usize) -> Result<(), ParseError> {
         let c = self.get(id, from, "curve")?;
-        let (kind, args) = self.args(id, c, &["LINE", "POLYLINE", "SURFACE_CURVE", "SEAM_CURVE"])?;
+        if let Some(net) = self.spline_net(id, c, SPLINE_CURVES)? {
+            return self.straight(id, c, &net.concat());
+        }
+        let (kind, args) = self.args(
+            id,
+            c,
+            &["LINE", "POLYLINE", "SURFACE_CURVE", "SEAM_CURVE", "TRIMMED_CURVE"],
+        )?;
         match kind {
             "POLYLINE" => match args.get(1) {
-                Some(Value::List(points)) if points.len() == 2 => Ok(()),
-                _ => Err(ParseError::new(
-                    Place::Line(c.line),
-                    format!("#{id} POLYLINE: an edge curve with more than two points is not straight"),
-                    EXPORT_HINT,
-                )),
+                Some(Value::List(points)) if points.len() >= 2 => {
+                    let points = points
+                        .iter()
+                        .map(|p| self.point(self.reference(id, c, Some(p), "point")?, (id, c)))
+                        .collect::<Result<Vec<_>, _>>()?;
+                    self.straight(id, c, &points)
+                }
+                _ => Err(self.bad(id, c, "its points are not a list of two or more")),
             },
-            "SURFACE_CURVE" | "SEAM_CURVE" if depth < 4 => {
-                let inner = self.reference(id, c, args.get(1), "3D curve")?;
+            "SURFACE_CURVE" | "SEAM_CURVE" | "TRIMMED_CURVE" if depth < 4 => {
+                let what = if kind == "TRIMMED_CURVE" {
+                    "basis curve"
+                } else {
+                    "3D curve"
+                };
+                let inner = self.reference(id, c, args.get(1), what)?;
                 self.check_line(inner, (id, c), depth + 1)
             }
             "LINE" => Ok(()),
-            _ => Err(self.bad(id, c, "surface curves nest too deep")),
+            _ => Err(self.bad(id, c, "curves nest too deep")),
         }
+    }
+
+    /// Refuses a curve whose points are not collinear, naming it.
+    fn straight(&self, id: u64, c: &Instance, points: &[DVec3]) -> Result<(), ParseError> {
+        let (deviation, tolerance) = line_deviation(points);
+        if deviation <= tolerance {
+            return Ok(());
+        }
+        Err(ParseError::new(
+            Place::Line(c.line),
+            format!(
+                "#{id} {} is curved: its points lie up to {deviation:.3e} mm off a straight line (more than the \
+                 {tolerance:.1e} mm tolerance); acsg reads straight edges only",
+                c.type_name()
+            ),
+            EXPORT_HINT,
+        ))
     }
 }
 

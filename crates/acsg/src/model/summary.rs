@@ -61,6 +61,12 @@ impl PartSummary {
 /// card(PPC).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Inspection {
+    /// The unit of every length here (`mm`, `cm`, `m`, `in`, or `model units` when
+    /// none was given; see [`crate::units`]).
+    pub units: String,
+    /// The chord tolerance curved STEP faces were faceted with (`--facet`), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub facet: Option<f64>,
     /// One summary per part, fixed first.
     pub parts: Vec<PartSummary>,
     /// card(PPC) when two parts were given.
@@ -106,6 +112,8 @@ impl Inspection {
         let mut parts = vec![PartSummary::of(fixed)];
         parts.extend(moving.map(PartSummary::of));
         Inspection {
+            units: crate::units::UNSPECIFIED.to_string(),
+            facet: None,
             parts,
             ppc: moving.map(|m| ppc_count(fixed, m).into()),
         }

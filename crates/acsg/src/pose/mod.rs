@@ -130,12 +130,67 @@ pub enum PoseError {
         /// What is wrong with it.
         reason: String,
     },
+    /// An angle outside ±180° (±π): angles are not wrapped, so such a value is almost
+    /// always a slip (radians read as degrees, or the reverse).
+    #[error("{}", angle_out_of_range_message(*.position, *.component, *.value, *.degrees))]
+    AngleOutOfRange {
+        /// 1-based position of the value in the text.
+        position: usize,
+        /// The component at that position.
+        component: Component,
+        /// The value as given.
+        value: f64,
+        /// Whether the value was given in degrees (else radians).
+        degrees: bool,
+    },
     /// Bounds with one or more problems; every problem found is listed.
     #[error("invalid bounds: {}", .problems.join("; "))]
     InvalidBounds {
         /// One message per problem, naming the component.
         problems: Vec<String>,
     },
+}
+
+/// The largest angle accepted from a user, in degrees: every angle given (bounds,
+/// poses, the assembled pose) must lie in `[-180°, 180°]`.
+pub const MAX_ANGLE_DEGREES: f64 = 180.0;
+
+/// Slack on [`MAX_ANGLE_DEGREES`] for angles given in radians, so that `3.1415927`
+/// (π rounded up in the 8th digit) still reads as a half turn.
+const RADIAN_SLACK: f64 = 1e-6;
+
+/// `true` when `value` (degrees, or radians when `degrees` is false) lies within ±180°.
+#[must_use]
+pub fn angle_in_range(value: f64, degrees: bool) -> bool {
+    if degrees {
+        value.abs() <= MAX_ANGLE_DEGREES
+    } else {
+        value.abs() <= std::f64::consts::PI + RADIAN_SLACK
+    }
+}
+
+/// The same turn as `degrees`, written within ±180°.
+fn wrapped_degrees(degrees: f64) -> f64 {
+    let w = (degrees + 180.0).rem_euclid(360.0) - 180.0;
+    // Round the suggestion to what a user would type.
+    (w * 1e6).round() / 1e6
+}
+
+fn angle_out_of_range_message(position: usize, component: Component, value: f64, degrees: bool) -> String {
+    if degrees {
+        format!(
+            "value {position} ({component}) is {value}°, outside ±180° (angles are degrees and are not wrapped; \
+             the same turn is {}°)",
+            wrapped_degrees(value)
+        )
+    } else {
+        format!(
+            "value {position} ({component}) is {value} rad ({}°), outside ±π (these angles are radians; \
+             give degrees without --radians, or the same turn as {} rad)",
+            (value.to_degrees() * 1e4).round() / 1e4,
+            (wrapped_degrees(value.to_degrees()).to_radians() * 1e9).round() / 1e9
+        )
+    }
 }
 
 /// A pose `X = (x, y, z, rx, ry, rz)` of the moving part B (angles in radians).
@@ -313,6 +368,44 @@ impl Pose {
         Ok(Pose::from_array(values))
     }
 
+    /// [`Pose::parse`], then refuses angles outside ±180° (±π in radians) with
+    /// [`PoseError::AngleOutOfRange`]: what every pose typed by a user goes through.
+    ///
+    /// ```
+    /// use acsg::pose::Pose;
+    ///
+    /// assert!(Pose::parse_checked("0,0,0,0,0,180", true).is_ok());
+    /// let err = Pose::parse_checked("0,0,0,0,0,200", true).unwrap_err();
+    /// assert!(err.to_string().contains("outside ±180°"), "{err}");
+    /// assert!(err.to_string().contains("-160°"), "{err}");
+    /// assert!(Pose::parse_checked("0,0,0,0,0,18", false).is_err()); // 18 rad
+    /// ```
+    ///
+    /// # Errors
+    /// Those of [`Pose::parse`], and [`PoseError::AngleOutOfRange`].
+    pub fn parse_checked(text: &str, degrees: bool) -> Result<Pose, PoseError> {
+        let pose = Pose::parse(text, degrees)?;
+        // Check the numbers as typed: a value in degrees converts to radians exactly
+        // enough that 180 stays within range, but the message should quote the input.
+        let tokens: Vec<&str> = text.split(',').map(str::trim).collect();
+        for component in [Component::Rx, Component::Ry, Component::Rz] {
+            let i = component.index();
+            let value = tokens
+                .get(i)
+                .and_then(|t| t.parse::<f64>().ok())
+                .unwrap_or(pose.get(component));
+            if !angle_in_range(value, degrees) {
+                return Err(PoseError::AngleOutOfRange {
+                    position: i + 1,
+                    component,
+                    value,
+                    degrees,
+                });
+            }
+        }
+        Ok(pose)
+    }
+
     /// Inverse of [`Pose::to_affine`]: the pose `X` with `G · [R | t] = transform`.
     ///
     /// The angles are extracted for `R = Rz(rz) · Ry(ry) · Rx(rx)` with
@@ -418,7 +511,8 @@ impl Bounds {
     }
 
     /// Like [`Bounds::try_new`], but the three angle components of `min` and `max`
-    /// are given in degrees (error messages quote them in degrees too).
+    /// are given in degrees (error messages quote them in degrees too), and must lie
+    /// within ±180° ([`MAX_ANGLE_DEGREES`]).
     pub fn from_degrees(min: [f64; 6], max: [f64; 6]) -> Result<Bounds, PoseError> {
         check_bounds(&min, &max, true)?;
         let radians = |a: [f64; 6]| {
@@ -501,6 +595,16 @@ fn check_bounds(min: &[f64; 6], max: &[f64; 6], degrees: bool) -> Result<(), Pos
                 "bound on {c} is inverted: min {lo}{unit} > max {hi}{unit}; swap them"
             ));
         }
+        if degrees && c.is_angle() {
+            for (which, v) in [("min", lo), ("max", hi)] {
+                if v.is_finite() && !angle_in_range(v, true) {
+                    problems.push(format!(
+                        "{which} bound on {c} is {v}°, outside ±180° (angles are degrees and are not wrapped; \
+                         for a free turn give -180:180)"
+                    ));
+                }
+            }
+        }
     }
     if problems.is_empty() {
         Ok(())
@@ -564,6 +668,34 @@ mod tests {
             }
         );
         assert_eq!(err.to_string(), "value 2 (y) is empty, expected a number");
+    }
+
+    #[test]
+    fn angles_outside_half_turn_are_refused() {
+        for text in ["0,0,0,180,-180,0", "0,0,0,0,0,-180"] {
+            assert!(Pose::parse_checked(text, true).is_ok(), "{text}");
+        }
+        let err = Pose::parse_checked("0,0,0,0,180.5,0", true).unwrap_err();
+        assert!(matches!(
+            err,
+            PoseError::AngleOutOfRange {
+                position: 5,
+                component: Component::Ry,
+                ..
+            }
+        ));
+        assert!(err.to_string().contains("-179.5°"), "{err}");
+        assert!(Pose::parse_checked("0,0,0,3.1415927,0,0", false).is_ok());
+        let err = Pose::parse_checked("0,0,0,0,0,18", false).unwrap_err();
+        assert!(err.to_string().contains("18 rad"), "{err}");
+        // Lengths have no range.
+        assert!(Pose::parse_checked("1e6,-1e6,0,0,0,0", true).is_ok());
+        let err = Bounds::from_degrees([0.0, 0.0, 0.0, 0.0, 0.0, -190.0], [0.0, 0.0, 0.0, 0.0, 0.0, 10.0]).unwrap_err();
+        assert!(
+            err.to_string().contains("min bound on rz is -190°, outside ±180°"),
+            "{err}"
+        );
+        assert!(Bounds::from_degrees([0.0, 0.0, 0.0, -180.0, 0.0, 0.0], [0.0, 0.0, 0.0, 180.0, 0.0, 0.0]).is_ok());
     }
 
     #[test]
