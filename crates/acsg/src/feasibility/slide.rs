@@ -32,9 +32,30 @@ struct Linear {
     rows: Vec<(DVec3, f64)>,
     /// Ranges `lo ≤ a · u + c ≤ hi` (where contact points sit in edges).
     ranges: Vec<(DVec3, f64, f64, f64)>,
-    /// Points `x0 + sign · u` that must lie in one of the triangles (a vertex in a
-    /// face).
-    in_faces: Vec<(DVec3, f64, Vec<[DVec3; 3]>)>,
+    /// Sets of points `x0 + sign · u` of which one must lie in one of the triangles
+    /// of `triangles[k]`: a vertex in a face is a set of one; an edge or a face lying
+    /// in a face, points spread over it (one of them on the face: they overlap).
+    in_faces: Vec<Vec<(DVec3, f64, usize)>>,
+    /// Whether each set stands for an edge or a face overlapping a face (not a point).
+    overlaps: Vec<bool>,
+    /// Faces' triangles, placed.
+    triangles: Vec<Vec<[DVec3; 3]>>,
+}
+
+impl Linear {
+    /// A set of points of which one must lie in a face's triangles.
+    fn in_face(&mut self, points: impl IntoIterator<Item = DVec3>, sign: f64, triangles: Vec<[DVec3; 3]>) {
+        let k = self.triangles.len();
+        self.triangles.push(triangles);
+        let set: Vec<(DVec3, f64, usize)> = points.into_iter().map(|x| (x, sign, k)).collect();
+        self.overlaps.push(set.len() > 1);
+        self.in_faces.push(set);
+    }
+}
+
+/// Points spread along an edge, its ends included.
+fn along([a, b]: [DVec3; 2]) -> impl Iterator<Item = DVec3> {
+    (0..=EDGE_SAMPLES).map(move |i| a.lerp(b, i as f64 / EDGE_SAMPLES as f64))
 }
 
 /// A face's triangles, placed.
@@ -59,12 +80,22 @@ impl Problem<'_> {
         others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
     ) -> Option<Pose> {
         let line = self.line(target, angles, bounds)?;
-        let mut free = line.free(self, scaled(CONTACT_REL, self.scale));
-        free.sort_by(|x, y| (y.1 - y.0).total_cmp(&(x.1 - x.0)));
+        let depth = scaled(CONTACT_REL, self.scale);
+        let longest_first = |mut list: Intervals| {
+            list.sort_by(|x, y| (y.1 - y.0).total_cmp(&(x.1 - x.0)));
+            list.truncate(SLIDE_TRIES);
+            list
+        };
+        let mut free = longest_first(line.free(self, depth));
+        // Then where edges or faces lie in the planes of faces but off them: the poses
+        // there show other states.
+        if line.loose != line.allowed {
+            free.extend(longest_first(line.free_of(&line.loose, self, depth)));
+        }
         let margin = scaled(SEPARATION_REL, self.scale);
-        for &(a, b) in free.iter().take(SLIDE_TRIES) {
+        for &(a, b) in &free {
             if b - a < 2.0 * margin && line.d != DVec3::ZERO {
-                break;
+                continue;
             }
             let pose = line.pose(0.5 * (a + b));
             match self.clean_state(&pose) {
@@ -244,12 +275,28 @@ impl Problem<'_> {
         for &(a, c, l, h) in &linear.ranges {
             keep(&mut allowed, a.dot(u0) + c, a.dot(d), l, h);
         }
-        for (x0, sign, triangles) in &linear.in_faces {
-            let union: Intervals = triangles
-                .iter()
-                .filter_map(|t| in_triangle(t, *x0 + *sign * u0, *sign * d))
-                .collect();
-            allowed = intersect(&allowed, &merge(union));
+        // The overlaps of edges and faces lying in faces cut `allowed` only: poses on
+        // the rest of the line show other states worth keeping.
+        let mut loose = allowed.clone();
+        for (set, &overlap) in linear.in_faces.iter().zip(&linear.overlaps) {
+            // Per triangle, the hull of its points' stretches: the overlap of a convex
+            // piece with a triangle moves along a convex set of the line.
+            let mut union: Intervals = Vec::new();
+            for (k, triangles) in linear.triangles.iter().enumerate() {
+                for t in triangles {
+                    let hull = set
+                        .iter()
+                        .filter(|&&(_, _, j)| j == k)
+                        .filter_map(|&(x0, sign, _)| in_triangle(t, x0 + sign * u0, sign * d))
+                        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)));
+                    union.extend(hull);
+                }
+            }
+            let union = merge(union);
+            allowed = intersect(&allowed, &union);
+            if !overlap {
+                loose = intersect(&loose, &union);
+            }
         }
         // The bounds alone, and with the elements.
         let mut in_bounds: Intervals = vec![(f64::NEG_INFINITY, f64::INFINITY)];
@@ -260,11 +307,12 @@ impl Problem<'_> {
         }
         if d == DVec3::ZERO {
             let point = |list: &Intervals| if list.is_empty() { Vec::new() } else { vec![(0.0, 0.0)] };
-            (allowed, in_bounds) = (point(&allowed), point(&in_bounds));
+            (allowed, loose, in_bounds) = (point(&allowed), point(&loose), point(&in_bounds));
         }
         in_bounds.retain(|&(a, b)| a.is_finite() && b.is_finite());
         let within = allowed.clone();
         let allowed = intersect(&allowed, &in_bounds);
+        let loose = intersect(&loose, &in_bounds);
         Some(Line {
             angles,
             u0,
@@ -272,6 +320,7 @@ impl Problem<'_> {
             within,
             in_bounds,
             allowed,
+            loose,
             linear,
             placed: DAffine3::from_translation(u0) * base,
             g_inverse,
@@ -295,8 +344,7 @@ impl Problem<'_> {
                     let face = &self.fixed.face(f);
                     let q = moving_point(v);
                     out.rows.push((face.normal, face.offset - face.normal.dot(q)));
-                    out.in_faces
-                        .push((q, 1.0, face_triangles(self.fixed, f, &DAffine3::IDENTITY)));
+                    out.in_face([q], 1.0, face_triangles(self.fixed, f, &DAffine3::IDENTITY));
                 }
                 (ContactKind::VertexFace, ElementId::Vertex(v), ElementId::Face(g)) => {
                     let p = fixed_point(v);
@@ -304,7 +352,7 @@ impl Problem<'_> {
                     let m = base.transform_vector3(self.moving.face(g).normal).normalize();
                     let q0 = triangles.first()?[0];
                     out.rows.push((m, m.dot(p - q0)));
-                    out.in_faces.push((p, -1.0, triangles));
+                    out.in_face([p], -1.0, triangles);
                 }
                 (ContactKind::EdgeEdge, ElementId::Edge(e), ElementId::Edge(x)) => {
                     let [a0, a1] = self.fixed.edge_points(e);
@@ -353,13 +401,18 @@ impl Problem<'_> {
                 }
                 // The contacts that also hold the rotation: at a rotation where they are
                 // parallel (see [`Problem::project_rotation`]), points of the moving
-                // element on the fixed one's plane or line. Where along it they overlap
-                // is left to the witness check.
+                // element on the fixed one's plane or line, and the two overlapping
+                // (points spread over one inside the other).
                 (ContactKind::FaceEdge, ElementId::Face(f), ElementId::Edge(x)) => {
                     let face = &self.fixed.face(f);
                     for q in moving_edge(x) {
                         out.rows.push((face.normal, face.offset - face.normal.dot(q)));
                     }
+                    out.in_face(
+                        along(moving_edge(x)),
+                        1.0,
+                        face_triangles(self.fixed, f, &DAffine3::IDENTITY),
+                    );
                 }
                 (ContactKind::EdgeFace, ElementId::Edge(e), ElementId::Face(g)) => {
                     let triangles = face_triangles(self.moving, g, base);
@@ -368,6 +421,7 @@ impl Problem<'_> {
                     for a in self.fixed.edge_points(e) {
                         out.rows.push((m, m.dot(a - q0)));
                     }
+                    out.in_face(along(self.fixed.edge_points(e)), -1.0, triangles);
                 }
                 (ContactKind::FaceFace, ElementId::Face(f), ElementId::Face(g)) => {
                     let face = &self.fixed.face(f);
@@ -375,6 +429,33 @@ impl Problem<'_> {
                     for q in triangles.first()? {
                         out.rows.push((face.normal, face.offset - face.normal.dot(*q)));
                     }
+                    // One face's corners and edge midpoints in the other, either way.
+                    let spread = |part: &Part, f: FaceId, place: &DAffine3| -> Vec<DVec3> {
+                        part.face(f)
+                            .loops
+                            .iter()
+                            .flat_map(|l| l.edges.iter())
+                            .flat_map(|&x| {
+                                let [a, b] = part.edge_points(x).map(|p| place.transform_point3(p));
+                                [a, a.midpoint(b)]
+                            })
+                            .collect()
+                    };
+                    let mut set: Vec<(DVec3, f64, usize)> = Vec::new();
+                    out.triangles.push(face_triangles(self.fixed, f, &DAffine3::IDENTITY));
+                    set.extend(
+                        spread(self.moving, g, base)
+                            .into_iter()
+                            .map(|q| (q, 1.0, out.triangles.len() - 1)),
+                    );
+                    out.triangles.push(triangles);
+                    set.extend(
+                        spread(self.fixed, f, &DAffine3::IDENTITY)
+                            .into_iter()
+                            .map(|p| (p, -1.0, out.triangles.len() - 1)),
+                    );
+                    out.in_faces.push(set);
+                    out.overlaps.push(true);
                 }
                 (ContactKind::EdgeEdgeTouch, ElementId::Edge(e), ElementId::Edge(x)) => {
                     let [a0, a1] = self.fixed.edge_points(e);
@@ -471,6 +552,8 @@ const SLIDE_EVALUATIONS: usize = 100;
 const OFF_CENTRE: [f64; 3] = [0.5123, 0.4689, 0.5217];
 /// Gauss–Newton steps of [`Problem::project_rotation`], at most.
 const PROJECTION_STEPS: usize = 12;
+/// Points of an edge tried in a face, for an edge lying in a face.
+const EDGE_SAMPLES: usize = 8;
 /// Points of a line at which [`Problem::slide_gap`] measures the penetration.
 const SLIDE_SAMPLES: usize = 16;
 
@@ -487,6 +570,9 @@ struct Line {
     in_bounds: Intervals,
     /// Both: where a witness may be.
     allowed: Intervals,
+    /// [`Line::allowed`] with only the point contacts inside their elements (not yet
+    /// the edges and faces lying in faces overlapping them).
+    loose: Intervals,
     /// The conditions the line was cut by.
     linear: Linear,
     /// The moving part placed at `u0`.
@@ -498,9 +584,14 @@ struct Line {
 impl Line {
     /// The allowed stretches where the parts penetrate by at most `depth`.
     fn free(&self, problem: &Problem<'_>, depth: f64) -> Intervals {
+        self.free_of(&self.allowed, problem, depth)
+    }
+
+    /// The stretches of `list` where the parts penetrate by at most `depth`.
+    fn free_of(&self, list: &Intervals, problem: &Problem<'_>, depth: f64) -> Intervals {
         // A point is a line of no length.
         let d = if self.d == DVec3::ZERO { DVec3::X } else { self.d };
-        subtract(&self.allowed, problem.scene.blocked_along(&self.placed, d, depth))
+        subtract(list, problem.scene.blocked_along(&self.placed, d, depth))
     }
 
     /// How far the point at `s` is from its contact points lying in their elements
@@ -517,11 +608,12 @@ impl Line {
             .linear
             .in_faces
             .iter()
-            .map(|(x0, sign, triangles)| {
-                let x = *x0 + *sign * u;
-                triangles
-                    .iter()
-                    .map(|t| triangle_distance(t, x))
+            .map(|set| {
+                set.iter()
+                    .flat_map(|&(x0, sign, k)| {
+                        let x = x0 + sign * u;
+                        self.linear.triangles[k].iter().map(move |t| triangle_distance(t, x))
+                    })
                     .fold(f64::INFINITY, f64::min)
             })
             .sum();
@@ -727,6 +819,36 @@ mod tests {
         // the pose there shows more contacts, never the target alone.
         let at_identity = problem.line(&target, [0.0; 3], &bounds).expect("a line");
         assert_ne!(problem.clean_state(&at_identity.pose(0.5)), Some(target));
+    }
+
+    #[test]
+    fn an_edge_lying_in_a_face_is_slid_onto_the_face_not_its_plane() {
+        // The peg's edge e11 in the hole's wall f11 and its vertex v2 on the chamfer f7:
+        // at this rotation the line of translations holding both runs mostly where the
+        // edge lies in the wall's plane above the wall (the oracle found the state, the
+        // slide took the line's middle). Only 0.02 mm of it has the edge on the wall.
+        let (a, b) = (fixture("block_with_chamfered_hole.off"), fixture("peg.off"));
+        let bounds = peg_bounds();
+        let problem = Problem::new(&a, &b, bounds, DAffine3::IDENTITY);
+        let target = vec![
+            PrincipalContact {
+                fixed: "f7".parse().unwrap(),
+                moving: "v2".parse().unwrap(),
+                kind: ContactKind::FaceVertex,
+            },
+            PrincipalContact {
+                fixed: "f11".parse().unwrap(),
+                moving: "e11".parse().unwrap(),
+                kind: ContactKind::FaceEdge,
+            },
+        ];
+        let angles = [0.028925019148872643, 0.0004888715855397775, -0.016895017909574504];
+        let mut others = Vec::new();
+        let pose = problem.slide(&target, angles, &bounds, &mut others).expect("a witness");
+        assert_eq!(problem.clean_state(&pose), Some(target.clone()));
+        let line = problem.line(&target, angles, &bounds).expect("a line");
+        let length = |list: &Intervals| list.iter().map(|(a, b)| b - a).sum::<f64>();
+        assert!(length(&line.allowed) < 0.05, "{:?}", line.allowed);
     }
 
     #[test]
