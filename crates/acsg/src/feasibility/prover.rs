@@ -68,7 +68,6 @@ enum Apart {
 }
 
 /// Points of edges inside a piece of the other part.
-#[derive(Default)]
 struct Through {
     moving: Vec<EdgePoint>,
     fixed: Vec<EdgePoint>,
@@ -529,32 +528,27 @@ impl<'a> Prover<'a> {
             }
             (to - from > 1e-9).then_some(0.5 * (from + to))
         };
-        let mut through = Through::default();
-        for (edge, &[i, k]) in self.b.edges.iter().enumerate() {
-            for (piece, planes) in self.a.pieces.iter().enumerate() {
-                if let Some(mid) = inside(placed[i], placed[k], planes, self.a.piece_boxes[piece]) {
-                    let (w0, w1) = (self.b.vertices[i], self.b.vertices[k]);
-                    through.moving.push(EdgePoint {
-                        edge,
-                        point: w0 + mid * (w1 - w0),
-                        piece,
-                    });
+        // The edges of `shape` (its vertices placed at `at`) through the pieces of `other`.
+        let points = |shape: &Shape, at: &[DVec3], other: &Shape| -> Vec<EdgePoint> {
+            let mut out = Vec::new();
+            for (edge, &[i, k]) in shape.edges.iter().enumerate() {
+                for (piece, planes) in other.pieces.iter().enumerate() {
+                    if let Some(mid) = inside(at[i], at[k], planes, other.piece_boxes[piece]) {
+                        let (p0, p1) = (shape.vertices[i], shape.vertices[k]);
+                        out.push(EdgePoint {
+                            edge,
+                            point: p0 + mid * (p1 - p0),
+                            piece,
+                        });
+                    }
                 }
             }
+            out
+        };
+        Through {
+            moving: points(&self.b, &placed, &self.a),
+            fixed: points(&self.a, &back, &self.b),
         }
-        for (edge, &[i, k]) in self.a.edges.iter().enumerate() {
-            for (piece, planes) in self.b.pieces.iter().enumerate() {
-                if let Some(mid) = inside(back[i], back[k], planes, self.b.piece_boxes[piece]) {
-                    let (a0, a1) = (self.a.vertices[i], self.a.vertices[k]);
-                    through.fixed.push(EdgePoint {
-                        edge,
-                        point: a0 + mid * (a1 - a0),
-                        piece,
-                    });
-                }
-            }
-        }
-        through
     }
 
     /// Narrows `t` by the face–vertex pairs a witness keeps apart: a vertex that lies
