@@ -49,6 +49,7 @@ __all__ = [
     "part",
     "generate",
     "contacts",
+    "generate_many",
 ]
 
 #: The pose components, in order: lengths x, y, z, then rotations rx, ry, rz
@@ -545,3 +546,93 @@ def contacts(
         float(doc["tolerance"]),
     )
 
+
+
+def _matches(graph: Graph, task: Mapping[str, Any]) -> bool:
+    """Whether a graph read back is the output of ``task``: the same part names, bounds
+    and options (so that a changed task is generated again)."""
+    doc = graph.document
+    try:
+        a = part(task["fixed"], units=task.get("units"))
+        b = part(task["moving"], units=task.get("units"))
+        lo, hi = _bounds(task["bounds"])
+    except Exception:
+        return False
+    if task.get("degrees", True):
+        lo = lo[:3] + [float(np.radians(v)) for v in lo[3:]]
+        hi = hi[:3] + [float(np.radians(v)) for v in hi[3:]]
+    same_bounds = np.allclose(doc["bounds"]["min"], lo, rtol=0, atol=1e-12) and np.allclose(
+        doc["bounds"]["max"], hi, rtol=0, atol=1e-12
+    )
+    return (
+        same_bounds
+        and doc["fixed"]["path"] == a.name
+        and doc["moving"]["path"] == b.name
+        and doc["options"]["degenerate"] == bool(task.get("degenerate", False))
+    )
+
+
+def generate_many(
+    tasks: Iterable[Mapping[str, Any]],
+    progress: Union[bool, Callable[[int, int], Any]] = False,
+) -> List[Union[Graph, Exception]]:
+    """Generates the graphs of many pairs, one after the other (each run uses every
+    core); one pair's error does not stop the others.
+
+    :param tasks: each a dict of :func:`generate`'s arguments (``fixed``, ``moving``,
+        ``bounds``, and any of ``degrees``, ``degenerate``, ``assembled``, ``threads``,
+        ``effort``, ``units``), plus optionally ``output``: a path the graph's JSON is
+        saved to. When that file already holds the graph of the same parts, bounds and
+        options (written whole: files are written atomically), it is read instead of
+        generated again, so a rerun of an interrupted batch does only what is left.
+    :param progress: ``True`` for one progress bar for the whole batch (tqdm when
+        installed), or a callable ``progress(done, total)`` called after each pair.
+    :returns: a list in the order of ``tasks``: the :class:`Graph` of each pair, or the
+        exception that pair raised (:class:`AcsgError`, ``ValueError``, ``TypeError``,
+        ``OSError``, ...). ``KeyboardInterrupt`` stops the whole batch.
+    """
+    tasks = list(tasks)
+    results: List[Union[Graph, Exception]] = []
+    bar: Any = None
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+
+            bar = tqdm(total=len(tasks), unit="pair", desc="acsg")
+        except ImportError:
+            bar = None
+    for k, task in enumerate(tasks):
+        try:
+            results.append(_one(task))
+        except Exception as error:  # each pair's error is its result
+            results.append(error)
+        if bar is not None:
+            bar.update(1)
+        elif progress is True:
+            print(f"\racsg: {k + 1}/{len(tasks)} pairs", end="", file=sys.stderr)
+        elif callable(progress):
+            progress(k + 1, len(tasks))
+    if bar is not None:
+        bar.close()
+    elif progress is True and tasks:
+        print(file=sys.stderr)
+    return results
+
+
+def _one(task: Mapping[str, Any]) -> Graph:
+    if not isinstance(task, Mapping):
+        raise TypeError(f"a task is a dict of generate's arguments, not {type(task).__name__}")
+    arguments = dict(task)
+    output = arguments.pop("output", None)
+    arguments.pop("progress", None)
+    if output is not None and os.path.exists(output):
+        try:
+            done = Graph.load(output)
+        except AcsgError:
+            done = None
+        if done is not None and _matches(done, task):
+            return done
+    graph = generate(**arguments)
+    if output is not None:
+        graph.save(output)
+    return graph
