@@ -24,8 +24,10 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
+// Named `acsg.AcsgError` (where the package exports it), so that it pickles: Ray and
+// multiprocessing carry it between processes.
 create_exception!(
-    _acsg,
+    acsg,
     AcsgError,
     PyException,
     "An input acsg cannot use: a part that cannot be read or is not a valid solid, a graph file that \
