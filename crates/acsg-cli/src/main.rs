@@ -142,8 +142,9 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
-    /// Convert a graph's JSON for other tools: Graphviz DOT, or GraphML (Gephi, yEd,
-    /// networkx); states carry their contacts, DOF and witness as attributes.
+    /// Convert a graph's JSON for other tools: Graphviz DOT, GraphML (Gephi, yEd,
+    /// networkx) or node-link JSON (networkx, d3); states carry their contacts, DOF and
+    /// witness as attributes.
     Export {
         /// The graph's JSON (written by generate, run or demo).
         graph: PathBuf,
@@ -163,6 +164,9 @@ enum ExportFormat {
     Dot,
     /// GraphML (Gephi, yEd, `networkx.read_graphml`).
     Graphml,
+    /// Node-link JSON (`networkx.node_link_graph`, d3): numeric attributes, the
+    /// witness as 6 numbers and its 4x4 matrix as nested arrays.
+    NodeLink,
 }
 
 /// The length unit of a run.
@@ -406,6 +410,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let text = match format {
                 ExportFormat::Dot => acsg::export::dot::to_dot(&file),
                 ExportFormat::Graphml => acsg::export::graphml::to_graphml(&file),
+                ExportFormat::NodeLink => acsg::export::node_link::to_node_link(&file),
             };
             match output {
                 Some(path) => acsg::io::write_atomic(&path, text.as_bytes())

@@ -194,3 +194,29 @@ def test_bad_graph_files_raise_acsg_error(tmp_path):
         acsg.Graph.load(path)
     with pytest.raises(acsg.AcsgError, match="cannot read"):
         acsg.Graph.load(tmp_path / "missing.json")
+
+
+def test_node_link_export_reads_into_the_same_networkx_graph(case, cli, tmp_path):
+    nx = pytest.importorskip("networkx")
+    _, _, _, graph = case
+    path = tmp_path / "graph.json"
+    graph.save(path)
+    data = json.loads(cli("export", str(path), "--format", "node-link"))
+    try:
+        g = nx.node_link_graph(data, edges="links")
+    except TypeError:  # networkx before 3.4 has no `edges` argument
+        g = nx.node_link_graph(data)
+    mine = graph.to_networkx()
+    assert sorted(g.nodes) == sorted(mine.nodes)
+    assert sorted(tuple(sorted(e)) for e in g.edges) == sorted(tuple(sorted(e)) for e in mine.edges)
+    for n in mine.nodes:
+        a, b = g.nodes[n], mine.nodes[n]
+        assert (a["dof"], a["degenerate"], a["n_contacts"]) == (b["dof"], b["degenerate"], b["n_contacts"])
+        assert [tuple(c) for c in a["contacts"]] == b["contacts"]
+        if b["witness"] is None:
+            assert a["witness"] is None and a["matrix"] is None
+        else:
+            # Exactly the JSON's numbers: no digit lost on the way through the CLI.
+            assert a["witness"] == b["witness"].tolist()
+            assert a["matrix"] == b["matrix"].tolist()
+    assert g.graph["complete"] == graph.complete
