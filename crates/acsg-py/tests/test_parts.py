@@ -67,3 +67,22 @@ def test_bad_fixtures_are_refused():
         if path.suffix.lower() in {".off", ".obj", ".stl", ".ply"}:
             with pytest.raises(acsg.AcsgError):
                 acsg.part(path)
+
+
+@pytest.mark.parametrize("name", ["cad/l_block.step", "cad/l_block.igs"])
+def test_cad_files_give_the_same_part_as_the_mesh(name):
+    assert _geometry(acsg.part(fixture(name))) == _geometry(acsg.part(fixture("l_block.off")))
+
+
+def test_cad_units_and_facets():
+    # A peg written in inches, read in mm (the default for CAD files) and in inches.
+    in_mm = acsg.part(fixture("cad/peg_inch.step"))
+    in_inches = acsg.part(fixture("cad/peg_inch.step"), units="in")
+    assert in_mm.volume == pytest.approx(in_inches.volume * 25.4**3)
+    # Curved faces need facet=, and say so.
+    with pytest.raises(acsg.AcsgError, match="facet"):
+        acsg.part(fixture("cad/round_peg.step"))
+    faceted = acsg.part(fixture("cad/round_peg.step"), facet=0.05)
+    assert faceted.counts[2] > 10
+    with pytest.raises(ValueError, match="facet"):
+        acsg.part(fixture("cad/round_peg.step"), facet=-1.0)
