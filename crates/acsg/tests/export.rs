@@ -96,7 +96,8 @@ fn graphml_loads_in_networkx_when_python_has_it() {
     let script = "import sys, networkx as nx\n\
                   g = nx.read_graphml(sys.argv[1])\n\
                   s3 = g.nodes['s3']\n\
-                  print(g.number_of_nodes(), g.number_of_edges(), s3['n_contacts'], s3['dof'], s3['degenerate'], repr(s3['contacts']), 'witness' in g.nodes['s0'], g.graph['fixed'])";
+                  print(g.number_of_nodes(), g.number_of_edges(), s3['n_contacts'], s3['dof'], s3['degenerate'], repr(s3['contacts']), 'witness' in g.nodes['s0'], g.graph['fixed'])\n\
+                  print(repr([s3[k] for k in ('x', 'y', 'z', 'rx', 'ry', 'rz')]), repr(s3['m03']), repr(s3['m11']), 'm00' in g.nodes['s0'])";
     let out = std::process::Command::new("python3")
         .arg("-c")
         .arg(script)
@@ -106,7 +107,8 @@ fn graphml_loads_in_networkx_when_python_has_it() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(
         String::from_utf8_lossy(&out.stdout).trim(),
-        "4 4 2 3 True 'e-e e5 e0; v-v v3 v2' False parts/\"odd\" <name> & 'quotes'\\.off"
+        "4 4 2 3 True 'e-e e5 e0; v-v v3 v2' False parts/\"odd\" <name> & 'quotes'\\.off\n\
+         [-1.0, 0.125, 1.0, 0.0, -0.05, 0.0] -1.0 1.0 False"
     );
 }
 
