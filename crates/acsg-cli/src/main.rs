@@ -105,6 +105,28 @@ enum Command {
         #[command(flatten)]
         run: RunFlags,
     },
+    /// Generate the graphs of many task files, one after the other: a manifest (TOML)
+    /// lists them as `tasks = ["a.toml", ...]` (relative to the manifest), with an
+    /// optional `output_dir` (default: each graph beside its task file, as `run`
+    /// writes it). A task that fails is reported and skipped; a task whose output
+    /// already holds its graph (same parts, bounds and options) is skipped, so a rerun
+    /// does only what is left. Exit code 1 when a task failed.
+    Batch {
+        /// The manifest.
+        manifest: PathBuf,
+        /// Generate every task again, even those whose output is already written.
+        #[arg(long)]
+        force: bool,
+        /// Worker threads of each run (as `run --threads`).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Write zeros for the stage times (as `run --no-timings`).
+        #[arg(long)]
+        no_timings: bool,
+        /// No progress bar and no line per task; errors are still reported.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// Generate the graph of the built-in example (the paper's L-block and box, each
     /// rotation within ±18°, x and y within ±5 mm, z from 0 to 240 mm): no files needed.
     Demo {
@@ -120,8 +142,9 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
-    /// Convert a graph's JSON for other tools: Graphviz DOT, or GraphML (Gephi, yEd,
-    /// networkx); states carry their contacts, DOF and witness as attributes.
+    /// Convert a graph's JSON for other tools: Graphviz DOT, GraphML (Gephi, yEd,
+    /// networkx) or node-link JSON (networkx, d3); states carry their contacts, DOF and
+    /// witness as attributes.
     Export {
         /// The graph's JSON (written by generate, run or demo).
         graph: PathBuf,
@@ -141,6 +164,9 @@ enum ExportFormat {
     Dot,
     /// GraphML (Gephi, yEd, `networkx.read_graphml`).
     Graphml,
+    /// Node-link JSON (`networkx.node_link_graph`, d3): numeric attributes, the
+    /// witness as 6 numbers and its 4x4 matrix as nested arrays.
+    NodeLink,
 }
 
 /// The length unit of a run.
@@ -340,20 +366,23 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             run,
         } => {
             let job = Task::from_path(&task)?;
-            let unit = units.or(job.units);
-            let facet = check_facet(facet.or(job.facet))?;
-            let (fixed, fixed_format) = Part::from_path_with(&job.fixed, unit, facet)?;
-            let (moving, moving_format) = Part::from_path_with(&job.moving, unit, facet)?;
-            let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
             let default_output = task.with_extension("graph.json");
-            let run_job = Job {
-                names: [job.fixed_given, job.moving_given],
-                bounds: job.bounds,
-                options: job.options,
-                length,
-                facet,
+            run_task(job, units, facet, run, default_output)
+        }
+        Command::Batch {
+            manifest,
+            force,
+            threads,
+            no_timings,
+            quiet,
+        } => {
+            let flags = BatchFlags {
+                force,
+                threads,
+                no_timings,
+                quiet,
             };
-            generate_and_write((fixed, moving), run_job, run, Some(default_output))
+            run_batch(&manifest, &flags)
         }
         Command::Demo { run } => {
             let parts = acsg::examples::l_block_and_box();
@@ -381,6 +410,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let text = match format {
                 ExportFormat::Dot => acsg::export::dot::to_dot(&file),
                 ExportFormat::Graphml => acsg::export::graphml::to_graphml(&file),
+                ExportFormat::NodeLink => acsg::export::node_link::to_node_link(&file),
             };
             match output {
                 Some(path) => acsg::io::write_atomic(&path, text.as_bytes())
@@ -389,6 +419,220 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             Ok(())
         }
+    }
+}
+
+/// Generates the graph of a task read from its file and writes it (`acsg run`).
+fn run_task(
+    job: Task,
+    units: Option<acsg::units::LengthUnit>,
+    facet: Option<f64>,
+    run: RunFlags,
+    default_output: PathBuf,
+) -> anyhow::Result<()> {
+    let unit = units.or(job.units);
+    let facet = check_facet(facet.or(job.facet))?;
+    let (fixed, fixed_format) = Part::from_path_with(&job.fixed, unit, facet)?;
+    let (moving, moving_format) = Part::from_path_with(&job.moving, unit, facet)?;
+    let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
+    let run_job = Job {
+        names: [job.fixed_given, job.moving_given],
+        bounds: job.bounds,
+        options: job.options,
+        length,
+        facet,
+    };
+    generate_and_write((fixed, moving), run_job, run, Some(default_output))
+}
+
+/// The options of `acsg batch`.
+struct BatchFlags {
+    force: bool,
+    threads: Option<usize>,
+    no_timings: bool,
+    quiet: bool,
+}
+
+/// The manifest of `acsg batch`.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Manifest {
+    /// Task files, relative to the manifest.
+    tasks: Vec<PathBuf>,
+    /// Where the graphs go, relative to the manifest (default: beside each task file).
+    #[serde(default)]
+    output_dir: Option<PathBuf>,
+}
+
+/// What became of one task of a batch.
+enum Outcome {
+    /// Generated and written.
+    Wrote(PathBuf),
+    /// Its output already held its graph.
+    Skipped(PathBuf),
+}
+
+/// `acsg batch`: every task of the manifest, in order; a failed task is reported and
+/// the others still run.
+fn run_batch(manifest: &std::path::Path, flags: &BatchFlags) -> anyhow::Result<()> {
+    let text = std::fs::read_to_string(manifest)
+        .with_context(|| format!("{}: cannot read the manifest (check the path)", manifest.display()))?;
+    let list: Manifest = toml::from_str(text.strip_prefix('\u{feff}').unwrap_or(&text)).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {} (a manifest is `tasks = [\"a.toml\", \"b.toml\"]` and an optional `output_dir = \"graphs\"`)",
+            manifest.display(),
+            e.message().trim()
+        )
+    })?;
+    if let Some(threads) = flags.threads {
+        acsg::task::check_threads(threads).map_err(|m| UsageError(format!("invalid --threads: {m}")))?;
+    }
+    let folder = manifest.parent().unwrap_or(std::path::Path::new(""));
+    let outputs: Vec<PathBuf> = list
+        .tasks
+        .iter()
+        .map(|task| {
+            let beside = folder.join(task).with_extension("graph.json");
+            match (&list.output_dir, beside.file_name()) {
+                (Some(dir), Some(name)) => folder.join(dir).join(name),
+                _ => beside,
+            }
+        })
+        .collect();
+    for (k, output) in outputs.iter().enumerate() {
+        if let Some(j) = outputs[..k].iter().position(|o| o == output) {
+            anyhow::bail!(
+                "{}: tasks {} and {} would both write {} (rename one task file, or drop output_dir)",
+                manifest.display(),
+                j + 1,
+                k + 1,
+                output.display()
+            );
+        }
+    }
+    if let Some(dir) = &list.output_dir {
+        let dir = folder.join(dir);
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let bar = (!flags.quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = indicatif::ProgressBar::new(list.tasks.len() as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("batch {elapsed:>4} [{bar:20}] {pos}/{len} tasks, {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let say = |line: String| match &bar {
+        Some(bar) => bar.println(line),
+        None => println!("{line}"),
+    };
+    let (mut wrote, mut skipped, mut failed) = (0, 0, 0);
+    for (task, output) in list.tasks.iter().zip(&outputs) {
+        let path = folder.join(task);
+        if let Some(bar) = &bar {
+            bar.set_message(path.display().to_string());
+        }
+        match batch_task(&path, output, flags) {
+            Ok(Outcome::Wrote(out)) => {
+                wrote += 1;
+                if !flags.quiet {
+                    say(format!("wrote   {} ({})", out.display(), describe_graph(&out)));
+                }
+            }
+            Ok(Outcome::Skipped(out)) => {
+                skipped += 1;
+                if !flags.quiet {
+                    say(format!(
+                        "skipped {} (already written: {})",
+                        path.display(),
+                        out.display()
+                    ));
+                }
+            }
+            Err(err) => {
+                failed += 1;
+                let line = format!("error   {}: {err:#}", path.display());
+                match &bar {
+                    Some(bar) => bar.suspend(|| eprintln!("{line}")),
+                    None => eprintln!("{line}"),
+                }
+            }
+        }
+        if let Some(bar) = &bar {
+            bar.inc(1);
+        }
+    }
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    if !flags.quiet {
+        println!("batch   {wrote} generated, {skipped} skipped (already written), {failed} failed");
+    }
+    if failed > 0 {
+        anyhow::bail!("{failed} of {} tasks failed (see above)", list.tasks.len());
+    }
+    Ok(())
+}
+
+/// One task of a batch: skipped when `output` already holds its graph, else generated.
+fn batch_task(task: &std::path::Path, output: &std::path::Path, flags: &BatchFlags) -> anyhow::Result<Outcome> {
+    let job = Task::from_path(task)?;
+    if !flags.force && holds_graph_of(output, &job) {
+        return Ok(Outcome::Skipped(output.to_path_buf()));
+    }
+    let run = RunFlags {
+        output: Some(output.to_path_buf()),
+        html: None,
+        degenerate: false,
+        threads: flags.threads,
+        effort: None,
+        no_timings: flags.no_timings,
+        quiet: true,
+    };
+    run_task(job, None, None, run, output.to_path_buf())?;
+    Ok(Outcome::Wrote(output.to_path_buf()))
+}
+
+/// Whether `output` is a graph file of `job`: the same parts (as named in the task
+/// file), bounds and options. Outputs are written atomically, so one that reads is
+/// whole.
+fn holds_graph_of(output: &std::path::Path, job: &Task) -> bool {
+    if !output.is_file() {
+        return false;
+    }
+    let Ok(file) = GraphFile::from_path(output) else {
+        return false;
+    };
+    // Numbers read back from JSON may differ from the task's in the last digit.
+    let close = |a: &[f64], b: &[f64]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= 1e-12 * x.abs().max(y.abs()).max(1.0))
+    };
+    let g = acsg::pose::Pose::IDENTITY.matrix(&job.options.assembled);
+    file.fixed.path == job.fixed_given
+        && file.moving.path == job.moving_given
+        && close(&file.bounds.min, &job.bounds.min.to_array())
+        && close(&file.bounds.max, &job.bounds.max.to_array())
+        && file.options.degenerate == job.options.degenerate
+        && close(file.assembled.as_flattened(), g.as_flattened())
+}
+
+/// "122 states, 444 edges, complete" of a graph file just written.
+fn describe_graph(path: &std::path::Path) -> String {
+    match GraphFile::from_path(path) {
+        Ok(g) => format!(
+            "{} states, {} edges, {}",
+            g.states.len(),
+            g.edges.len(),
+            if g.complete {
+                "complete".to_string()
+            } else {
+                format!("{} undecided", g.undecided.len())
+            }
+        ),
+        Err(e) => e.to_string(),
     }
 }
 

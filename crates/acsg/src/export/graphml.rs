@@ -14,14 +14,26 @@ const NODE_KEYS: [(&str, &str); 6] = [
     ("witness", "string"),
 ];
 
+/// The witness pose as numbers, one attribute per component (radians for angles).
+const POSE_KEYS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+
+/// The witness placement as numbers: the top three rows of its 4x4 matrix, `m<row><col>`
+/// (the last row is always 0 0 0 1).
+const MATRIX_KEYS: [&str; 12] = [
+    "m00", "m01", "m02", "m03", "m10", "m11", "m12", "m13", "m20", "m21", "m22", "m23",
+];
+
 /// The attributes declared for the graph.
 const GRAPH_KEYS: [&str; 4] = ["format", "convention", "fixed", "moving"];
 
 /// The graph in GraphML: an undirected graph with one node per state (id `s<id>`)
 /// and one edge per neighbour pair. Nodes carry `label` (`S<id>`), `contacts`
 /// (`; `-separated, e.g. `f-f f1 f0; f-v f2 v3`), `n_contacts`, `dof`, `degenerate`
-/// and `witness` (`x,y,z,rx,ry,rz` in radians, absent without one); the graph carries
-/// the format, the pose convention and the parts' paths.
+/// and `witness` (`x,y,z,rx,ry,rz` in radians, absent without one), and the witness as
+/// numbers (`double`): `x`, `y`, `z`, `rx`, `ry`, `rz` and its placement's matrix
+/// entries `m00` .. `m23` (row, column; the last row is 0 0 0 1); the graph carries the
+/// format, the pose convention and the parts' paths. Numbers are written so that they
+/// read back exactly.
 ///
 /// ```
 /// let (slab, cube) = acsg::examples::cube_and_slab();
@@ -56,6 +68,12 @@ pub fn to_graphml(graph: &GraphFile) -> String {
             "  <key id=\"{name}\" for=\"node\" attr.name=\"{name}\" attr.type=\"{kind}\"/>"
         );
     }
+    for name in POSE_KEYS.iter().chain(&MATRIX_KEYS) {
+        let _ = writeln!(
+            out,
+            "  <key id=\"{name}\" for=\"node\" attr.name=\"{name}\" attr.type=\"double\"/>"
+        );
+    }
     out.push_str("  <graph id=\"acsg\" edgedefault=\"undirected\">\n");
     for (name, value) in
         GRAPH_KEYS
@@ -76,6 +94,15 @@ pub fn to_graphml(graph: &GraphFile) -> String {
         data("degenerate", if state.degenerate { "true" } else { "false" });
         if let Some(witness) = witness_text(state) {
             data("witness", &witness);
+        }
+        if let Some(w) = &state.witness {
+            for (key, value) in POSE_KEYS.iter().zip(w.pose) {
+                data(key, &format!("{value:?}"));
+            }
+            let entries = w.matrix.iter().take(3).flatten();
+            for (key, value) in MATRIX_KEYS.iter().zip(entries) {
+                data(key, &format!("{value:?}"));
+            }
         }
         out.push_str("    </node>\n");
     }

@@ -1,6 +1,7 @@
 //! Reading a graph's JSON back ([`GraphFile`]) and writing it for people and other
-//! tools: a self-contained HTML report ([`html`]), Graphviz DOT ([`dot`]) and GraphML
-//! ([`graphml`], for Gephi, yEd, networkx).
+//! tools: a self-contained HTML report ([`html`]), Graphviz DOT ([`dot`]), GraphML
+//! ([`graphml`], for Gephi, yEd, networkx) and node-link JSON ([`node_link`], for
+//! `networkx.node_link_graph` and d3).
 //!
 //! Every writer is a pure function of a [`GraphFile`] and gives the same bytes for the
 //! same graph.
@@ -13,6 +14,7 @@ use crate::model::{ElementId, PartElements};
 pub mod dot;
 pub mod graphml;
 pub mod html;
+pub mod node_link;
 
 /// Errors of reading a graph's JSON.
 #[derive(Debug, thiserror::Error)]
