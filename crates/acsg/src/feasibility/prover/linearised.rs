@@ -56,9 +56,10 @@ impl Affine {
 /// The rotation at the box's centre and its derivatives there.
 struct Turn {
     r: DMat3,
-    rx: DMat3,
-    ry: DMat3,
-    rz: DMat3,
+    /// `∂R/∂rx`, `∂R/∂ry`, `∂R/∂rz` at the centre.
+    by_rx: DMat3,
+    by_ry: DMat3,
+    by_rz: DMat3,
     /// Σ of the half-widths of the angles.
     s: f64,
     /// Centre of the translation box and the half-diagonal of it.
@@ -80,9 +81,9 @@ impl Turn {
         let t_hi = DVec3::new(hi[0], hi[1], hi[2]);
         Turn {
             r: rz * ry * rx,
-            rx: rz * ry * rx * kx,
-            ry: rz * ry * ky * rx,
-            rz: rz * kz * ry * rx,
+            by_rx: rz * ry * rx * kx,
+            by_ry: rz * ry * ky * rx,
+            by_rz: rz * kz * ry * rx,
             s: (0..3).map(|k| 0.5 * (hi[k + 3] - lo[k + 3])).sum(),
             t_c: 0.5 * (t_lo + t_hi),
             d: 0.5 * (t_hi - t_lo).length(),
@@ -91,7 +92,7 @@ impl Turn {
 
     /// The derivatives of `R v` by the three angles.
     fn jacobian(&self, v: DVec3) -> [DVec3; 3] {
-        [self.rx * v, self.ry * v, self.rz * v]
+        [self.by_rx * v, self.by_ry * v, self.by_rz * v]
     }
 
     /// How far `R v` is from its linear part at most.
@@ -289,12 +290,12 @@ impl Linearised<'_, '_> {
     /// the other part; `None` when one is inside whatever the pose in the box.
     fn kept_out(&mut self, through: &super::Through) -> Option<()> {
         let (a, b) = (&self.prover.a, &self.prover.b);
-        for (j, _) in a.pieces.iter().enumerate() {
+        for j in 0..a.pieces.len() {
             for &w in &b.vertices {
                 self.keep_out(true, w, j)?;
             }
         }
-        for (j, _) in b.pieces.iter().enumerate() {
+        for j in 0..b.pieces.len() {
             for &v in &a.vertices {
                 self.keep_out(false, v, j)?;
             }
