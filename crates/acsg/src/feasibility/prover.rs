@@ -23,7 +23,7 @@ mod linearised;
 
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
-use crate::model::{ElementId, FaceId, Part, VertexId};
+use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use crate::pose::Bounds;
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 
@@ -53,6 +53,24 @@ enum Link {
 pub(crate) struct Links {
     links: Vec<Link>,
     apart: Vec<Apart>,
+    /// Edges and faces of the other part a witness keeps apart (moving part's edge?,
+    /// edge, face): where the edge lies over the face it is the separation off its plane.
+    apart_edges: Vec<(bool, usize, usize)>,
+    straddles: Vec<Straddle>,
+}
+
+/// A segment of one part that crosses a plane of the other through the contact: an
+/// edge crossing another edge meets every plane through the other's line at the
+/// crossing point, so its ends lie on both sides of each such plane (or on it). The
+/// crossing row alone says only that the two lines meet somewhere, which near-parallel
+/// edges nearly always do.
+#[derive(Clone, Copy, Debug)]
+struct Straddle {
+    /// Whether the segment is the moving part's (in its frame; the plane the fixed
+    /// part's, in G's frame), or the other way round.
+    moving: bool,
+    ends: [DVec3; 2],
+    plane: (DVec3, f64),
 }
 
 /// A face and a vertex of the other part that a witness of the target keeps apart:
@@ -224,6 +242,30 @@ impl<'a> Prover<'a> {
                 holds(self.fixed, pc.fixed, a) && holds(self.moving, pc.moving, b)
             })
         };
+        // An edge and a face whose pair is not implied, nor that of either of the
+        // edge's ends and the face (an edge standing on a face by its end comes that
+        // close to it next to the end).
+        let mut apart_edges = Vec::new();
+        for face in 0..self.fixed.faces().len() {
+            let f = ElementId::Face(FaceId(face as u32));
+            for (edge, e) in self.moving.edges().iter().enumerate() {
+                if !implied(f, ElementId::Edge(EdgeId(edge as u32)))
+                    && e.vertices.iter().all(|&v| !implied(f, ElementId::Vertex(v)))
+                {
+                    apart_edges.push((true, edge, face));
+                }
+            }
+        }
+        for face in 0..self.moving.faces().len() {
+            let f = ElementId::Face(FaceId(face as u32));
+            for (edge, e) in self.fixed.edges().iter().enumerate() {
+                if !implied(ElementId::Edge(EdgeId(edge as u32)), f)
+                    && e.vertices.iter().all(|&v| !implied(ElementId::Vertex(v), f))
+                {
+                    apart_edges.push((false, edge, face));
+                }
+            }
+        }
         let mut apart = Vec::new();
         for face in 0..self.fixed.faces().len() {
             for vertex in 0..self.moving.vertices().len() {
@@ -247,7 +289,56 @@ impl<'a> Prover<'a> {
                 }
             }
         }
-        Some(Links { links, apart })
+        Some(Links {
+            links,
+            apart,
+            apart_edges,
+            straddles: self.straddles(target),
+        })
+    }
+
+    /// The [`Straddle`]s of a state's contacts along edges: for an edge–edge contact,
+    /// each edge's ends across two perpendicular planes through the other edge's line;
+    /// for a vertex on an edge, the edge's ends across the three planes through the
+    /// vertex normal to the vertex's part's axes.
+    fn straddles(&self, target: &[PrincipalContact]) -> Vec<Straddle> {
+        let mut out = Vec::new();
+        let ends = |fixed: bool, x: EdgeId| {
+            let (part, shape) = if fixed {
+                (self.fixed, &self.a)
+            } else {
+                (self.moving, &self.b)
+            };
+            part.edge(x).vertices.map(|v| shape.vertices[v.index()])
+        };
+        let mut across = |moving: bool, ends: [DVec3; 2], at: DVec3, normals: &[DVec3]| {
+            for &n in normals {
+                out.push(Straddle {
+                    moving,
+                    ends,
+                    plane: (n, n.dot(at)),
+                });
+            }
+        };
+        for pc in target {
+            match (pc.kind, pc.fixed, pc.moving) {
+                (ContactKind::EdgeEdge, ElementId::Edge(x), ElementId::Edge(y)) => {
+                    let (a, b) = (ends(true, x), ends(false, y));
+                    for (moving, line, ends) in [(true, a, b), (false, b, a)] {
+                        let (u, v) = (line[1] - line[0]).normalize().any_orthonormal_pair();
+                        across(moving, ends, line[0], &[u, v]);
+                    }
+                }
+                (ContactKind::EdgeVertex, ElementId::Edge(x), ElementId::Vertex(v)) => {
+                    across(false, ends(true, x), self.b.vertices[v.index()], &DVec3::AXES);
+                }
+                (ContactKind::VertexEdge, ElementId::Vertex(v), ElementId::Edge(y)) => {
+                    across(true, ends(false, y), self.a.vertices[v.index()], &DVec3::AXES);
+                }
+                _ => {}
+            }
+        }
+        out
     }
 
     fn link_list(&self, target: &[PrincipalContact]) -> Option<Vec<Link>> {
@@ -395,7 +486,7 @@ impl<'a> Prover<'a> {
     }
 
     fn contract(&self, links: &Links, bounds: &Bounds) -> Option<Bounds> {
-        let Links { links, apart } = links;
+        let Links { links, apart, .. } = links;
         let r = rotation_enclosure(bounds);
         let mut t = [
             Interval::new(bounds.min.x, bounds.max.x),
@@ -867,13 +958,87 @@ mod tests {
 
     /// A box as OFF text.
     fn bar(lo: [f64; 3], hi: [f64; 3]) -> Part {
+        let size = DVec3::from(hi) - DVec3::from(lo);
+        prism(
+            DVec3::from(lo),
+            [DVec3::X * size.x, DVec3::Y * size.y, DVec3::Z * size.z],
+        )
+    }
+
+    /// A parallelepiped with a corner at `o` and sides `s` (a right-handed frame).
+    fn prism(o: DVec3, s: [DVec3; 3]) -> Part {
         let mut off = String::from("OFF\n8 6 0\n");
         for c in 0..8 {
-            let pick = |k: usize| if c >> k & 1 == 0 { lo[k] } else { hi[k] };
-            off += &format!("{} {} {}\n", pick(0), pick(1), pick(2));
+            let p = (0..3).fold(o, |p, k| if c >> k & 1 == 0 { p } else { p + s[k] });
+            off += &format!("{} {} {}\n", p.x, p.y, p.z);
         }
         off += "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
-        crate::examples::builtin("bar.off", &off)
+        crate::examples::builtin("prism.off", &off)
+    }
+
+    /// A bar of square section standing on its edge: its lowest edge runs from `o`
+    /// along `along` (horizontal), its section 1 wide.
+    fn ridge(o: DVec3, along: DVec3) -> Part {
+        let side = DVec3::Z.cross(along).normalize();
+        let (a, b) = ((side + DVec3::Z) / 2f64.sqrt(), (DVec3::Z - side) / 2f64.sqrt());
+        prism(o, [along, a, b])
+    }
+
+    /// The edge of `part` between the points `p` and `q`.
+    fn edge_between(part: &Part, p: DVec3, q: DVec3) -> ElementId {
+        let at = |v: VertexId, x: DVec3| part.vertex(v).position.distance(x) < 1e-9;
+        let found = part.edges().iter().position(|e| {
+            let [u, v] = e.vertices;
+            (at(u, p) && at(v, q)) || (at(u, q) && at(v, p))
+        });
+        ElementId::Edge(EdgeId(found.expect("no such edge") as u32))
+    }
+
+    #[test]
+    fn edges_whose_lines_cross_beyond_an_end_are_excluded() {
+        // A bar along the diagonal x = y, its top edge from (0, 0, 1) to (10, 10, 1);
+        // a ridge along x = −y, its lowest edge from (0, 0, 1) to (10, −10, 1). Moved by
+        // t = (−8 ± 0.5, 4 ± 0.5, 0), the ridge's line meets the bar's edge's line at
+        // s = (tx + ty) / 2 ≈ −2 along the diagonal: before the edge's start, though
+        // well inside the box around the edge that the interval test uses.
+        use crate::contact::{ContactKind, PrincipalContact};
+        let diagonal = DVec3::new(10.0, 10.0, 0.0);
+        let across = DVec3::new(-0.2, 0.2, 0.0);
+        let fixed = prism(DVec3::ZERO, [diagonal, across, DVec3::Z]);
+        let ridge_start = DVec3::Z;
+        let along = DVec3::new(10.0, -10.0, 0.0);
+        let moving = ridge(ridge_start, along);
+        let target = [PrincipalContact {
+            fixed: edge_between(&fixed, DVec3::Z, DVec3::Z + diagonal),
+            moving: edge_between(&moving, ridge_start, ridge_start + along),
+            kind: ContactKind::EdgeEdge,
+        }];
+        let prover = Prover::new(&fixed, &moving, &DAffine3::IDENTITY, 30.0);
+        let links = prover.links(&target).unwrap();
+        let r = 1e-4;
+        let beyond = Bounds::try_new([-8.5, 3.5, -0.01, -r, -r, -r], [-7.5, 4.5, 0.01, r, r, r]).unwrap();
+        assert!(prover.narrow(&links, &beyond).is_none());
+        // Moved by (4, 6, 0) the lines meet at (5, 5, 1), on both edges: a witness.
+        let across_edges = Bounds::try_new([3.5, 5.5, -0.01, -r, -r, -r], [4.5, 6.5, 0.01, r, r, r]).unwrap();
+        assert!(prover.narrow(&links, &across_edges).is_some());
+    }
+
+    #[test]
+    fn an_edge_lying_in_a_face_with_both_ends_beyond_it_is_kept_apart() {
+        // A ridge 30 long lies across a 10-wide slab's top face, its lowest edge in the
+        // face's plane and both its ends beyond the face: no vertex of either part is
+        // near a face of the other, yet the edge touches the face. Free space needs
+        // the edge the separation off the face.
+        let fixed = bar([0.0, 0.0, 0.0], [10.0, 10.0, 1.0]);
+        let moving = ridge(DVec3::new(-10.0, 5.0, 1.0), DVec3::new(30.0, 0.0, 0.0));
+        let prover = Prover::new(&fixed, &moving, &DAffine3::IDENTITY, 30.0);
+        let free = prover.links(&[]).unwrap();
+        let r = 1e-7;
+        let flat = Bounds::try_new([-0.1, -1.0, -1e-6, -r, -r, -r], [0.1, 1.0, 1e-6, r, r, r]).unwrap();
+        assert!(prover.narrow(&free, &flat).is_none());
+        // Raised by 1e-3 it is free.
+        let raised = Bounds::try_new([-0.1, -1.0, 1e-3, -r, -r, -r], [0.1, 1.0, 2e-3, r, r, r]).unwrap();
+        assert!(prover.narrow(&free, &raised).is_some());
     }
 
     #[test]

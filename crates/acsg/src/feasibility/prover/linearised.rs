@@ -42,6 +42,15 @@ impl Affine {
         Interval::new(a, b)
     }
 
+    /// `a · self + b · other` (`a`, `b` ≥ 0).
+    fn blend(&self, a: f64, other: &Affine, b: f64) -> Affine {
+        Affine {
+            base: a * self.base + b * other.base,
+            coef: std::array::from_fn(|k| a * self.coef[k] + b * other.coef[k]),
+            err: a * self.err + b * other.err,
+        }
+    }
+
     /// The row `lo ≤ self ≤ hi`, the remainder and `slack` moved to the bounds.
     fn row(&self, lo: f64, hi: f64, slack: f64) -> Row {
         let widen = self.err + slack;
@@ -165,9 +174,12 @@ impl Prover<'_> {
             rows: Vec::new(),
             either: Vec::new(),
             edges_added: Vec::new(),
+            links,
+            edges_over_faces: Vec::new(),
         };
         linear.contacts(links);
         linear.kept_apart(links);
+        linear.straddled(links);
         linear.kept_out(&self.edges_through(&bounds.center()))?;
         propagate(&linear.rows, &mut linear.lo, &mut linear.hi)?;
         let mut budget = CASES;
@@ -195,9 +207,15 @@ struct Linearised<'p, 'a> {
     lo: [f64; VARS],
     hi: [f64; VARS],
     rows: Vec<Row>,
-    either: Vec<Vec<Row>>,
-    /// (moving part's edge?, edge, piece) pairs whose edge points are in.
-    edges_added: Vec<(bool, usize, usize)>,
+    /// Sets of cases, one of which must hold; a case is rows that must all hold.
+    either: Vec<Vec<Vec<Row>>>,
+    /// The target's conditions.
+    links: &'p super::Links,
+    /// (moving part's edge?, edge, face) and the point kept apart, for the points of
+    /// edges over faces in.
+    edges_over_faces: Vec<((bool, usize, usize), DVec3)>,
+    /// (moving part's edge?, edge, piece) and the point kept out, for the edge points in.
+    edges_added: Vec<((bool, usize, usize), DVec3)>,
 }
 
 impl Linearised<'_, '_> {
@@ -254,7 +272,6 @@ impl Linearised<'_, '_> {
     /// The face–vertex pairs a witness keeps apart: a vertex over a face is at least
     /// the margin off its plane, on one side or the other.
     fn kept_apart(&mut self, links: &super::Links) {
-        let (m, s) = (self.prover.margin, self.prover.slack);
         for pair in &links.apart {
             let (moving, vertex, face, triangles) = match *pair {
                 Apart::FixedFace { face, vertex } => (
@@ -270,18 +287,137 @@ impl Linearised<'_, '_> {
                     &self.prover.b.triangles[face],
                 ),
             };
-            let h = self.height(moving, vertex, face);
-            let range = h.range(&self.lo, &self.hi);
-            if range.lo >= m || range.hi <= -m || !over_face(triangles, face.0, &self.position(moving, vertex), s) {
+            self.apart_from_face(moving, vertex, face, triangles);
+        }
+    }
+
+    /// The points of edges that lie over a face they are kept apart from, closer to its
+    /// plane than the margin at `pose`: points of the stretch over each triangle join
+    /// as points kept apart from the face (an edge can lie in a face's plane with both
+    /// its ends beyond the face, where no vertex test sees it).
+    fn edges_near_faces(&mut self, pose: &crate::pose::Pose) {
+        let links = self.links;
+        let (r, t) = (pose.rotation(), pose.translation());
+        let m = self.prover.margin;
+        for &(moving, edge, face) in &links.apart_edges {
+            let (own, other) = if moving {
+                (&self.prover.b, &self.prover.a)
+            } else {
+                (&self.prover.a, &self.prover.b)
+            };
+            let [p0, p1] = own.edges[edge].map(|v| own.vertices[v]);
+            let place = |p: DVec3| if moving { r * p + t } else { r.transpose() * (p - t) };
+            let (q0, q1) = (place(p0), place(p1));
+            let (n, d) = other.planes[face];
+            let (h0, h1) = (n.dot(q0) - d, n.dot(q1) - d);
+            if h0.min(h1) >= m || h0.max(h1) <= -m {
                 continue;
             }
-            let (above, below) = (h.row(m, f64::INFINITY, s), h.row(f64::NEG_INFINITY, -m, s));
-            if range.lo > -m {
-                self.rows.push(above);
-            } else if range.hi < m {
-                self.rows.push(below);
+            let mut points = Vec::new();
+            for &[a, b, c] in &other.triangles[face] {
+                let sign = (b - a).cross(c - a).dot(n).signum();
+                let (mut from, mut to) = (0.0_f64, 1.0_f64);
+                for (x, y) in [(a, b), (b, c), (c, a)] {
+                    let inward = sign * n.cross(y - x);
+                    let (g0, g1) = (inward.dot(q0 - x), inward.dot(q1 - x));
+                    if (g1 - g0).abs() < 1e-300 {
+                        if g0 < 0.0 {
+                            to = -1.0;
+                        }
+                    } else if g1 > g0 {
+                        from = from.max(-g0 / (g1 - g0));
+                    } else {
+                        to = to.min(-g0 / (g1 - g0));
+                    }
+                }
+                // Points inside the stretch (its ends lie on the triangle's sides,
+                // where the box cannot tell whether they are over it).
+                for f in [0.05, 0.5, 0.95] {
+                    let l = from + f * (to - from);
+                    if from < to && (h0 + l * (h1 - h0)).abs() < m {
+                        points.push(p0 + l * (p1 - p0));
+                    }
+                }
+            }
+            for p in points {
+                let key = (moving, edge, face);
+                let known = |&(k, at): &((bool, usize, usize), DVec3)| k == key && at.distance(p) <= self.prover.slack;
+                if !self.edges_over_faces.iter().any(known) {
+                    self.edges_over_faces.push((key, p));
+                    let other = if moving { &self.prover.a } else { &self.prover.b };
+                    self.apart_from_face(moving, p, other.planes[face], &other.triangles[face]);
+                }
+            }
+        }
+    }
+
+    /// A point of one part (the moving part's when `moving`) that a witness keeps off a
+    /// face of the other: where it lies over the face, at least the margin off the
+    /// face's plane. When the box does not decide whether it lies over the face, each
+    /// of the face's triangles gives the cases: outside one of its sides, or the margin
+    /// above or below.
+    fn apart_from_face(&mut self, moving: bool, p: DVec3, face: (DVec3, f64), triangles: &[[DVec3; 3]]) {
+        let (m, s) = (self.prover.margin, self.prover.slack);
+        let h = self.height(moving, p, face);
+        let range = h.range(&self.lo, &self.hi);
+        if range.lo >= m || range.hi <= -m {
+            return;
+        }
+        let (above, below) = (h.row(m, f64::INFINITY, s), h.row(f64::NEG_INFINITY, -m, s));
+        let mut off = Vec::new();
+        if range.hi > m {
+            off.push(vec![above]);
+        }
+        if range.lo < -m {
+            off.push(vec![below]);
+        }
+        if over_face(triangles, face.0, &self.position(moving, p), s) {
+            match off.len() {
+                1 => self.rows.extend(off.pop().unwrap_or_default()),
+                _ => self.either.push(off),
+            }
+            return;
+        }
+        for &[a, b, c] in triangles {
+            let sign = (b - a).cross(c - a).dot(face.0).signum();
+            let mut cases = off.clone();
+            let mut surely_outside = false;
+            for (x, y) in [(a, b), (b, c), (c, a)] {
+                // Depth inside this side, in the face's plane.
+                let inward = sign * face.0.cross(y - x) / x.distance(y);
+                let depth = self.height(moving, p, (inward, inward.dot(x)));
+                if depth.range(&self.lo, &self.hi).hi <= s {
+                    surely_outside = true;
+                    break;
+                }
+                cases.push(vec![depth.row(f64::NEG_INFINITY, s, s)]);
+            }
+            if !surely_outside {
+                self.either.push(cases);
+            }
+        }
+    }
+
+    /// The ends of a segment through a contact point on both sides of the planes
+    /// through it ([`super::Straddle`]), the point at least the margin from either end:
+    /// one order of the sides when the box decides it, else the two cases.
+    fn straddled(&mut self, links: &super::Links) {
+        let s = self.prover.slack;
+        for st in &links.straddles {
+            let [h0, h1] = st.ends.map(|p| self.height(st.moving, p, st.plane));
+            // The point at λ = h0 / (h0 − h1) along the segment, λ ∈ [μ, 1 − μ]: with
+            // h0 above and h1 below, (1 − μ) h0 + μ h1 ≥ 0 ≥ μ h0 + (1 − μ) h1.
+            let mu = (self.prover.margin / st.ends[0].distance(st.ends[1])).min(0.5);
+            let (near0, near1) = (h0.blend(1.0 - mu, &h1, mu), h0.blend(mu, &h1, 1.0 - mu));
+            let down_up = [near0.row(0.0, f64::INFINITY, s), near1.row(f64::NEG_INFINITY, 0.0, s)];
+            let up_down = [near0.row(f64::NEG_INFINITY, 0.0, s), near1.row(0.0, f64::INFINITY, s)];
+            let [r0, r1] = [h0, h1].map(|h| h.range(&self.lo, &self.hi));
+            if r0.lo > s || r1.hi < -s {
+                self.rows.extend(down_up);
+            } else if r0.hi < -s || r1.lo > s {
+                self.rows.extend(up_down);
             } else {
-                self.either.push(vec![above, below]);
+                self.either.push(vec![down_up.to_vec(), up_down.to_vec()]);
             }
         }
     }
@@ -308,8 +444,12 @@ impl Linearised<'_, '_> {
         for (moving, points) in [(true, &through.moving), (false, &through.fixed)] {
             for p in points {
                 let key = (moving, p.edge, p.piece);
-                if !self.edges_added.contains(&key) {
-                    self.edges_added.push(key);
+                // The same edge through the same piece elsewhere (at another pose of
+                // the box) is another point to keep out.
+                let known =
+                    |&(k, at): &((bool, usize, usize), DVec3)| k == key && at.distance(p.point) <= self.prover.slack;
+                if !self.edges_added.iter().any(known) {
+                    self.edges_added.push((key, p.point));
                     self.keep_out(moving, p.point, p.piece)?;
                 }
             }
@@ -337,7 +477,7 @@ impl Linearised<'_, '_> {
         match left.len() {
             0 => return None,
             1 => self.rows.append(&mut left),
-            _ => self.either.push(left),
+            _ => self.either.push(left.into_iter().map(|row| vec![row]).collect()),
         }
         Some(())
     }
@@ -355,7 +495,9 @@ impl Linearised<'_, '_> {
             *budget -= 1;
             let x = match lp::solve(rows, &self.lo, &self.hi) {
                 lp::Outcome::Empty => return true,
-                lp::Outcome::Unknown => return false,
+                lp::Outcome::Unknown => {
+                    return false;
+                }
                 lp::Outcome::Point(x) => x,
             };
             let holds = |row: &Row| {
@@ -363,11 +505,16 @@ impl Linearised<'_, '_> {
                 let tol = 1e-9 * (1.0 + v.abs());
                 v >= row.lo - tol && v <= row.hi + tol
             };
-            if let Some(broken) = self.either.iter().position(|rows| !rows.iter().any(holds)) {
+            let broken = self
+                .either
+                .iter()
+                .position(|cases| !cases.iter().any(|case| case.iter().all(holds)));
+            if let Some(broken) = broken {
                 for case in self.either[broken].clone() {
-                    rows.push(case);
+                    let before = rows.len();
+                    rows.extend(case);
                     let refuted = self.refute(rows, budget);
-                    rows.pop();
+                    rows.truncate(before);
                     if !refuted {
                         return false;
                     }
@@ -382,9 +529,10 @@ impl Linearised<'_, '_> {
             if self.edge_points(&self.prover.edges_through(&pose)).is_none() {
                 return true;
             }
+            self.edges_near_faces(&pose);
             // Rows that hold everywhere in the box, as sets of one (`rows` only grows
             // and shrinks by the cases of this search).
-            let new_rows: Vec<Vec<Row>> = self.rows.drain(before_rows..).map(|row| vec![row]).collect();
+            let new_rows: Vec<Vec<Vec<Row>>> = self.rows.drain(before_rows..).map(|row| vec![vec![row]]).collect();
             if new_rows.is_empty() && self.either.len() == before_sets {
                 return false;
             }
