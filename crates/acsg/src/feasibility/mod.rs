@@ -231,10 +231,12 @@ impl<'a> Problem<'a> {
     }
 
     /// Sets how many times the default budget (of boxes examined and local searches
-    /// inside them) a decision may spend before it leaves a candidate undecided; at
-    /// least 1.
+    /// inside them) a decision may spend before it leaves a candidate undecided, and
+    /// how wide a box of rotations the prover's second-order test is tried in (0.01 rad
+    /// of half-widths per unit, up to 0.05); at least 1.
     pub fn set_effort(&mut self, effort: u32) {
         self.effort = effort.max(1);
+        self.prover.set_effort(self.effort);
     }
 
     /// The misalignment bounds.

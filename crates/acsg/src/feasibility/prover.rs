@@ -190,6 +190,9 @@ pub(crate) struct Prover<'a> {
     /// every pair that does not touch is at least the separation tolerance apart, so the
     /// point keeps that far from the elements' boundaries (half of it, to be safe).
     margin: f64,
+    /// The widest box of rotations (sum of half-widths) the second-order test is tried
+    /// in: wider boxes cost more programmes and are more often split than proved.
+    max_turn: f64,
 }
 
 impl<'a> Prover<'a> {
@@ -211,6 +214,7 @@ impl<'a> Prover<'a> {
             to_g,
             slack: scaled(10.0 * CONTACT_REL, scale),
             margin: scaled(0.5 * SEPARATION_REL, scale),
+            max_turn: linearised::TURN_PER_EFFORT,
         }
     }
 
@@ -240,6 +244,12 @@ impl<'a> Prover<'a> {
         } * self.margin;
         let (lo, hi) = (lo + shrink, hi - shrink);
         lo.cmple(hi).all().then_some((lo, hi))
+    }
+
+    /// Scales the second-order test's reach with the search effort (see
+    /// [`super::Problem::set_effort`]).
+    pub fn set_effort(&mut self, effort: u32) {
+        self.max_turn = (linearised::TURN_PER_EFFORT * f64::from(effort.max(1))).min(linearised::MAX_TURN);
     }
 
     /// The constraints of a state's contacts; `None` when they are already

@@ -18,9 +18,12 @@ use crate::feasibility::interval::{Interval, IntervalMat, axis_rotations, produc
 use crate::feasibility::lp::{self, Row, VARS};
 use crate::pose::Bounds;
 
-/// Above this sum of the rotation box's half-widths the remainder is too coarse to
-/// prove anything the interval tests do not.
-const MAX_TURN: f64 = 0.05;
+/// Above this sum of the rotation box's half-widths the remainder is mostly too
+/// coarse to prove anything the interval tests do not, at the default effort; each
+/// unit of effort widens it by as much, up to [`MAX_TURN`].
+pub(super) const TURN_PER_EFFORT: f64 = 0.01;
+/// The widest rotation box the test is tried in, whatever the effort.
+pub(super) const MAX_TURN: f64 = 0.05;
 
 /// A scalar that is affine in `x` up to a remainder: `base + coef · x ± err`.
 #[derive(Clone, Copy, Debug)]
@@ -213,7 +216,7 @@ impl Prover<'_> {
     pub(super) fn linearised(&self, links: &super::Links, bounds: &Bounds) -> Option<Bounds> {
         let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
         let turn = Turn::new(&lo, &hi);
-        if turn.s > MAX_TURN {
+        if turn.s > self.max_turn {
             return Some(*bounds);
         }
         // Angles as offsets from the centre.
