@@ -449,14 +449,20 @@ impl<'a> Problem<'a> {
         self.clean_state(pose).filter(|contacts| !contacts.is_empty())
     }
 
-    /// One local optimisation in two phases: the contacts alone first (cheap, and for
-    /// translations a convex problem, so a start pushed into the parts by the bounds
-    /// does not trap it), then with the penetration depth, from there. Contact points
-    /// keep [`SEARCH_MARGIN_REL`] inside their elements, which keeps the pose off
+    /// One local optimisation (counted in `stats.optimisations`) from `start` towards a
+    /// pose within `bounds` where the target's contacts (sorted) hold and nothing
+    /// penetrates; the pose it reaches, which need not show the target (check it with
+    /// [`Problem::settle`] or [`Problem::verify`]).
+    ///
+    /// It runs in two phases: the contacts alone first (cheap, and for translations a
+    /// convex problem, so a start pushed into the parts by the bounds does not trap
+    /// it), then with the penetration depth, from there. Contact points keep
+    /// [`SEARCH_MARGIN_REL`] inside their elements, which keeps the pose off
     /// neighbouring states; when that leaves a residual of about the margin (the state
     /// holds only on a sliver of the bounds), a third phase settles it with
     /// [`TIGHT_MARGIN_REL`].
-    fn solve(&self, target: &[PrincipalContact], start: Pose, bounds: &Bounds) -> Pose {
+    pub fn solve(&self, target: &[PrincipalContact], start: Pose, bounds: &Bounds, stats: &mut SearchStats) -> Pose {
+        stats.optimisations += 1;
         let minimise = |margin: f64, penetration: bool, from: Pose| {
             solver::minimise(
                 |x, out| self.residuals(target, x, margin * self.scale, penetration, out),
@@ -480,6 +486,54 @@ impl<'a> Problem<'a> {
             pose = minimise(margin, true, pose);
         }
         pose
+    }
+
+    /// The witness of `target` that a pose reached by [`Problem::solve`] gives, if any:
+    /// the pose itself when it verifies as the target; when the target's contacts hold
+    /// there but other pairs touch or come too close (the optimiser stops where
+    /// non-penetration becomes active, at contact rather than at clearance), the pose
+    /// reached by one more optimisation (counted) that pushes those pairs apart, if it
+    /// verifies. A clean pose showing another state is added to `others` (once per
+    /// state), so that it is not lost.
+    pub fn settle(
+        &self,
+        target: &[PrincipalContact],
+        pose: Pose,
+        bounds: &Bounds,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        stats: &mut SearchStats,
+    ) -> Option<Pose> {
+        let report = self.inspect(&pose)?;
+        if !self.is_clean(&report, &pose) {
+            return self.clear(target, pose, &report, bounds, stats);
+        }
+        let state = report.contacts;
+        if state.is_empty() {
+            return None;
+        }
+        if state == target {
+            return Some(pose);
+        }
+        if is_strict_superset(&state, target) {
+            // The target held, with more contacts: push those apart from here.
+            if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
+                return Some(released);
+            }
+        }
+        if !others.iter().any(|(known, _)| *known == state) {
+            others.push((state, pose));
+        }
+        None
+    }
+
+    /// `count` starting poses spread over the bounds, the same for every run: for
+    /// orientations at the centre of the bounds' rotations, then the centres of their
+    /// eight octants, then their eight corners, the translation that puts the points of
+    /// one of the target's contacts together (the contacts in turn, then other points
+    /// of their elements), clamped to the bounds.
+    #[must_use]
+    pub fn spread_starts(&self, target: &[PrincipalContact], count: usize) -> Vec<Pose> {
+        self.starts(target, count, &self.bounds)
     }
 
     /// One local optimisation that keeps the target's contacts and pushes the `extra`
