@@ -545,7 +545,7 @@ impl Problem<'_> {
         others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
         stats: &mut SearchStats,
     ) -> Option<Pose> {
-        let pose = self.solve(target, start, bounds, stats);
+        let pose = self.solve_from(target, start, bounds, stats);
         self.settle(target, pose, bounds, others, stats)
     }
 }

@@ -453,16 +453,25 @@ impl<'a> Problem<'a> {
     /// pose within `bounds` where the target's contacts (sorted) hold and nothing
     /// penetrates; the pose it reaches, which need not show the target (check it with
     /// [`Problem::settle`] or [`Problem::verify`]).
-    ///
-    /// It runs in two phases: the contacts alone first (cheap, and for translations a
-    /// convex problem, so a start pushed into the parts by the bounds does not trap
-    /// it), then with the penetration depth, from there. Contact points keep
-    /// [`SEARCH_MARGIN_REL`] inside their elements, which keeps the pose off
+    pub fn solve_from(
+        &self,
+        target: &[PrincipalContact],
+        start: Pose,
+        bounds: &Bounds,
+        stats: &mut SearchStats,
+    ) -> Pose {
+        stats.optimisations += 1;
+        self.solve(target, start, bounds)
+    }
+
+    /// One local optimisation in two phases: the contacts alone first (cheap, and for
+    /// translations a convex problem, so a start pushed into the parts by the bounds
+    /// does not trap it), then with the penetration depth, from there. Contact points
+    /// keep [`SEARCH_MARGIN_REL`] inside their elements, which keeps the pose off
     /// neighbouring states; when that leaves a residual of about the margin (the state
     /// holds only on a sliver of the bounds), a third phase settles it with
     /// [`TIGHT_MARGIN_REL`].
-    pub fn solve(&self, target: &[PrincipalContact], start: Pose, bounds: &Bounds, stats: &mut SearchStats) -> Pose {
-        stats.optimisations += 1;
+    fn solve(&self, target: &[PrincipalContact], start: Pose, bounds: &Bounds) -> Pose {
         let minimise = |margin: f64, penetration: bool, from: Pose| {
             solver::minimise(
                 |x, out| self.residuals(target, x, margin * self.scale, penetration, out),
@@ -488,12 +497,12 @@ impl<'a> Problem<'a> {
         pose
     }
 
-    /// The witness of `target` that a pose reached by [`Problem::solve`] gives, if any:
-    /// the pose itself when it verifies as the target; when the target's contacts hold
-    /// there but other pairs touch or come too close (the optimiser stops where
-    /// non-penetration becomes active, at contact rather than at clearance), the pose
-    /// reached by one more optimisation (counted) that pushes those pairs apart, if it
-    /// verifies. A clean pose showing another state is added to `others` (once per
+    /// The witness of `target` that a pose reached by [`Problem::solve_from`] gives, if
+    /// any: the pose itself when it verifies as the target; when the target's contacts
+    /// hold there but other pairs touch as well or come too close (the optimiser stops
+    /// where non-penetration becomes active, at contact rather than at clearance), the
+    /// pose reached by one more optimisation (counted) that pushes those pairs apart, if
+    /// it verifies. A clean pose showing another state is added to `others` (once per
     /// state), so that it is not lost.
     pub fn settle(
         &self,

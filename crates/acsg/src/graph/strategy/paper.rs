@@ -15,7 +15,7 @@
 //! TopExist and TopUniqDesc are the derived mapping rules ([`rules::grow`]: a
 //! combination that cannot exist maps to nothing; one the rules leave ambiguous maps to
 //! each of its descriptions, each a candidate). GeoFeas is local optimisation:
-//! [`Problem::solve`] from [`SPREAD_STARTS`] fixed starts spread over the bounds
+//! [`Problem::solve_from`] from [`SPREAD_STARTS`] fixed starts spread over the bounds
 //! ([`Problem::spread_starts`]), stopped at the first whose pose verifies as the
 //! candidate. The paper calls a zero objective feasible; the witness check here is
 //! stricter (exactly this state, robustly, DOMAIN.md section 7), so a pose where the
@@ -163,7 +163,7 @@ fn geo_feas(problem: &Problem<'_>, target: &[PrincipalContact], stats: &mut Sear
         .spread_starts(target, SPREAD_STARTS)
         .into_iter()
         .find_map(|start| {
-            let pose = problem.solve(target, start, &bounds, stats);
+            let pose = problem.solve_from(target, start, &bounds, stats);
             problem.settle(target, pose, &bounds, &mut met, stats)
         })
 }
