@@ -114,3 +114,36 @@ pub(crate) fn run(
 
 /// Searches run in parallel per batch; progress is reported between batches.
 const BATCH: usize = 64;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_read_back_and_unknown_names_are_refused_listing_the_choices() {
+        for strategy in Strategy::ALL {
+            assert_eq!(strategy.name().parse::<Strategy>(), Ok(strategy));
+            assert_eq!(strategy.to_string(), strategy.name());
+        }
+        assert_eq!(" paper ".parse::<Strategy>(), Ok(Strategy::Paper));
+        let err = "Paper2".parse::<Strategy>().unwrap_err().to_string();
+        assert!(
+            err.contains("'Paper2'") && err.contains("full") && err.contains("paper"),
+            "{err}"
+        );
+        assert_eq!(Strategy::default(), Strategy::Full);
+        assert!(Strategy::Full.proves() && !Strategy::Paper.proves());
+    }
+
+    #[test]
+    fn the_json_and_task_files_use_the_same_names() {
+        for strategy in Strategy::ALL {
+            assert_eq!(
+                serde_json::to_string(&strategy).unwrap(),
+                format!("\"{}\"", strategy.name())
+            );
+        }
+        assert_eq!(serde_json::from_str::<Strategy>("\"paper\"").unwrap(), Strategy::Paper);
+        assert!(serde_json::from_str::<Strategy>("\"Paper\"").is_err());
+    }
+}
