@@ -16,6 +16,12 @@
 //! 3. every pose found is verified by the contact module: P(X) must equal the state
 //!    asked for, read the same at a looser tolerance, with no penetration. A pose
 //!    showing another state is reported as such.
+//!
+//! The pieces a search strategy builds on are public, so that another strategy (the
+//! paper's algorithm, `graph::Strategy::Paper`) uses the same ones: one local
+//! optimisation from a start ([`Problem::solve_from`]), the witness a pose gives
+//! ([`Problem::settle`], [`Problem::verify`]), fixed starts spread over the bounds
+//! ([`Problem::spread_starts`]) and the sound exclusion tests ([`Problem::exclusion`]).
 
 mod decide;
 mod interval;

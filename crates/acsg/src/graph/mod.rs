@@ -2,13 +2,13 @@
 //! bounds shows (DOMAIN.md section 4), each with a verified witness, and the neighbour
 //! relation between them.
 //!
-//! The graph being built ([`store`]: states, canonical index, completeness record,
-//! counts) is kept apart from how it is searched ([`strategy`]): the default strategy
+//! The graph being built (module `store`: states, canonical index, completeness
+//! record, counts) is kept apart from how it is searched ([`strategy`]): the default strategy
 //! decides every candidate it meets (witnessed, proved infeasible, or recorded as
 //! undecided); the paper's algorithm is a second strategy, a baseline on the same input
 //! ([`Options::strategy`]). Whatever the strategy, a state's identity is P(X) at its
 //! witness, every witness is verified by the contact module before the state is kept,
-//! and neighbour edges ([`neighbours`]) join states one contact apart and states whose
+//! and neighbour edges (module `neighbours`) join states one contact apart and states whose
 //! touching regions meet (found by small probes from each witness). Candidates are
 //! decided in parallel and merged in a fixed order, so the output does not depend on
 //! the number of threads.
@@ -147,7 +147,8 @@ pub struct Stats {
 pub struct Undecided {
     /// Its principal contacts, sorted.
     pub contacts: Vec<PrincipalContact>,
-    /// The smallest box of poses the proof left open.
+    /// The smallest box of poses the proof left open (the whole bounds when the
+    /// strategy tries no proof, as the paper's does not).
     pub open: Bounds,
 }
 
