@@ -38,7 +38,8 @@ pub enum Strategy {
     /// their description (TopUniqDesc) and optimises each new one. Each optimisation
     /// (GeoFeas) is a local search from a fixed set of spread starts, stopped at the
     /// first whose pose verifies as the candidate (with the same witness check as
-    /// [`Strategy::Full`]); no exclusion tests, warm starts, sliding or descents.
+    /// [`Strategy::Full`]); no exclusion tests, warm starts, sliding or descents, and
+    /// no budget to raise ([`super::Options::effort`] does not apply).
     ///
     /// It cannot prove a candidate infeasible: every candidate it fails to witness is
     /// recorded undecided, with the whole bounds left open, and its graph is never
