@@ -28,6 +28,8 @@ mod interval;
 mod lp;
 mod prover;
 mod residual;
+#[cfg(test)]
+mod scratch;
 mod slide;
 mod solver;
 mod turns;
