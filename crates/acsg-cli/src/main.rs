@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use acsg::contact::{ContactRecord, ContactReport, ContactScene};
 use acsg::export::GraphFile;
-use acsg::graph::{Document, Graph, Options, Progress, generate_with_progress};
+use acsg::graph::{Document, Graph, Options, Progress, Strategy, generate_with_progress};
 use acsg::model::{ElementId, Inspection, Part, PartElements};
 use acsg::pose::{Bounds, Pose};
 use acsg::task::Task;
@@ -227,12 +227,25 @@ struct RunFlags {
     /// slivers of the bounds and decides more candidates, at more time.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1000))]
     effort: Option<u32>,
+    /// How to search: `full` (the default: every candidate decided, witnessed or proved
+    /// infeasible where the budget allows) or `paper` (the paper's algorithm step by
+    /// step, a baseline: local optimisation of every PPC, then of every topologically
+    /// unique combination with a feasible PPC; it proves nothing infeasible, so its
+    /// graph is never complete).
+    #[arg(long, value_name = "NAME", value_parser = parse_strategy)]
+    strategy: Option<Strategy>,
     /// Write zeros for the stage times, so that runs give identical bytes.
     #[arg(long)]
     no_timings: bool,
     /// No summary and no progress bar.
     #[arg(short, long)]
     quiet: bool,
+}
+
+/// A `--strategy` name.
+fn parse_strategy(text: &str) -> Result<Strategy, String> {
+    text.parse()
+        .map_err(|e: acsg::graph::strategy::UnknownStrategy| e.to_string())
 }
 
 /// A bad argument value found after parsing (exit code 2, like clap's own errors).
@@ -586,6 +599,7 @@ fn batch_task(task: &std::path::Path, output: &std::path::Path, flags: &BatchFla
         degenerate: false,
         threads: flags.threads,
         effort: None,
+        strategy: None,
         no_timings: flags.no_timings,
         quiet: true,
     };
@@ -616,6 +630,7 @@ fn holds_graph_of(output: &std::path::Path, job: &Task) -> bool {
         && close(&file.bounds.min, &job.bounds.min.to_array())
         && close(&file.bounds.max, &job.bounds.max.to_array())
         && file.options.degenerate == job.options.degenerate
+        && file.options.strategy == job.options.strategy
         && close(file.assembled.as_flattened(), g.as_flattened())
 }
 
@@ -706,6 +721,9 @@ fn generate_and_write(
     }
     if let Some(effort) = flags.effort {
         options.effort = effort;
+    }
+    if let Some(strategy) = flags.strategy {
+        options.strategy = strategy;
     }
     let bar = (!flags.quiet && std::io::stderr().is_terminal()).then(|| {
         let bar = indicatif::ProgressBar::new(0);
@@ -805,6 +823,17 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds, length: &str) ->
         })
         .collect();
     let _ = writeln!(out, "bounds {}", ranges.join("  "));
+    match graph.strategy {
+        // The default's summary reads as before.
+        Strategy::Full => {}
+        Strategy::Paper => {
+            let _ = writeln!(
+                out,
+                "search paper: the paper's algorithm, a baseline (local optimisations from fixed starts; no \
+                 proofs, warm starts or descents)"
+            );
+        }
+    }
     let _ = writeln!(
         out,
         "stage 1  card(PPC) {}, {} ruled out without optimising, {} searched by optimisation ({} local runs), \
@@ -872,7 +901,13 @@ fn summary(graph: &Graph, names: &[String; 2], bounds: &Bounds, length: &str) ->
     let _ = writeln!(
         out,
         "complete {}",
-        if graph.is_complete() {
+        if !graph.strategy.proves() {
+            format!(
+                "NO: the {} strategy proves nothing infeasible; {} of {} candidates were not witnessed (listed \
+                 under \"undecided\" in the JSON)",
+                graph.strategy, s.undecided, s.candidates
+            )
+        } else if graph.is_complete() {
             format!(
                 "yes: each of the {} candidates met was witnessed ({}) or proved infeasible ({})",
                 s.candidates, s.witnessed, s.infeasible

@@ -179,3 +179,29 @@ fn bad_manifests_are_refused_clearly() {
         .code(1)
         .stderr(contains("cannot read the manifest"));
 }
+
+/// A graph written by one strategy is not the output of a task asking for another: a
+/// rerun after the task file changes its strategy generates it again.
+#[test]
+fn a_task_that_changes_its_strategy_is_generated_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let task = dir.path().join("cube.toml");
+    let text = format!(
+        "fixed = {:?}\nmoving = {:?}\n[bounds]\nx = [-1, 1]\ny = [0, 0]\nz = [0, 3]\nrx = [-5, 5]\nry = [0, 0]\n\
+         rz = [0, 0]\n",
+        fixture("slab.off").display().to_string(),
+        fixture("cube.off").display().to_string()
+    );
+    std::fs::write(&task, &text).unwrap();
+    let manifest = dir.path().join("batch.toml");
+    std::fs::write(&manifest, "tasks = [\"cube.toml\"]\n").unwrap();
+    let batch = || acsg().arg("batch").arg(&manifest).assert().success();
+    batch().stdout(contains("1 generated, 0 skipped"));
+    batch().stdout(contains("0 generated, 1 skipped"));
+    std::fs::write(&task, format!("{text}[options]\nstrategy = \"paper\"\n")).unwrap();
+    batch().stdout(contains("1 generated, 0 skipped"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cube.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["options"]["strategy"], "paper");
+    batch().stdout(contains("0 generated, 1 skipped"));
+}

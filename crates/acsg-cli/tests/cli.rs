@@ -1267,3 +1267,88 @@ fn a_task_file_can_ask_for_facets() {
         .code(1)
         .stderr(contains("round.toml:4:9: facet = -2"));
 }
+
+/// `--strategy paper` runs the paper's algorithm: named in the JSON and the summary,
+/// never complete, and its states are among the default's; an unknown name is a usage
+/// error; a task file may ask for it.
+#[test]
+fn the_papers_algorithm_is_a_strategy_of_generate_and_task_files() {
+    let generate = |strategy: Option<&str>| {
+        let mut command = acsg();
+        command
+            .arg("generate")
+            .arg(fixture("slab.off"))
+            .arg(fixture("cube.off"))
+            .args([
+                "--bounds",
+                "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180",
+                "--no-timings",
+            ]);
+        if let Some(name) = strategy {
+            command.args(["--strategy", name]);
+        }
+        let out = command.output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (v, String::from_utf8_lossy(&out.stderr).to_string())
+    };
+    let (paper, summary) = generate(Some("paper"));
+    let (full, full_summary) = generate(None);
+    assert_eq!(paper["options"]["strategy"], "paper");
+    assert!(full["options"].get("strategy").is_none(), "the default is not written");
+    assert_eq!(paper["complete"], false);
+    assert_eq!(full["complete"], true);
+    assert!(summary.contains("search paper") && summary.contains("proves nothing infeasible"));
+    assert!(!full_summary.contains("search paper"));
+    let states = |v: &serde_json::Value| -> std::collections::BTreeSet<String> {
+        v["states"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["contacts"].to_string())
+            .collect()
+    };
+    assert!(states(&paper).len() > 1);
+    assert!(states(&paper).is_subset(&states(&full)));
+    // The same with `--strategy full` as without.
+    assert_eq!(generate(Some("full")).0, full);
+    acsg()
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args(["--bounds", "z=0:3", "--strategy", "fastest"])
+        .assert()
+        .code(2)
+        .stderr(contains("unknown strategy 'fastest'").and(contains("paper")));
+
+    let dir = tempfile::tempdir().unwrap();
+    let task = |name: &str, strategy: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(
+            &path,
+            format!(
+                "fixed = {:?}\nmoving = {:?}\n[bounds]\nx = [-1, 1]\ny = [0, 0]\nz = [0, 3]\nrx = [-5, 5]\n\
+                 ry = [0, 0]\nrz = [0, 0]\n[options]\nstrategy = \"{strategy}\"\n",
+                fixture("slab.off").display().to_string(),
+                fixture("cube.off").display().to_string()
+            ),
+        )
+        .unwrap();
+        path
+    };
+    acsg()
+        .arg("run")
+        .arg(task("p.toml", "paper"))
+        .arg("-q")
+        .assert()
+        .success();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("p.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["options"]["strategy"], "paper");
+    acsg()
+        .arg("run")
+        .arg(task("bad.toml", "fastest"))
+        .assert()
+        .code(1)
+        .stderr(contains("bad.toml").and(contains("fastest")));
+}

@@ -203,10 +203,11 @@ struct Interrupted;
 ///
 /// `bounds_min`, `bounds_max`: x, y, z, rx, ry, rz (angles in degrees when `degrees`);
 /// `assembled`: 6 values in the same units, or a 4x4 matrix as 16 values; `progress`:
-/// called as `progress(stage, done, total, states)` between batches of searches.
+/// called as `progress(stage, done, total, states)` between batches of searches;
+/// `strategy`: "full" (the default) or "paper" (the paper's algorithm, a baseline).
 #[pyfunction]
 #[pyo3(signature = (fixed, moving, bounds_min, bounds_max, degrees=true, degenerate=false, assembled=None,
-                    threads=None, effort=None, progress=None, names=None))]
+                    threads=None, effort=None, progress=None, names=None, strategy=None))]
 #[allow(clippy::too_many_arguments)]
 fn generate(
     py: Python<'_>,
@@ -221,6 +222,7 @@ fn generate(
     effort: Option<u32>,
     progress: Option<Py<PyAny>>,
     names: Option<(String, String)>,
+    strategy: Option<String>,
 ) -> PyResult<String> {
     let bounds = if degrees {
         Bounds::from_degrees(bounds_min, bounds_max)
@@ -246,6 +248,11 @@ fn generate(
             )));
         }
         options.effort = effort;
+    }
+    if let Some(name) = strategy {
+        options.strategy = name.parse().map_err(|e: acsg::graph::strategy::UnknownStrategy| {
+            PyValueError::new_err(format!("invalid strategy: {e}"))
+        })?;
     }
     // The first error the callback raised (or the pending signal's), raised at the end.
     let failure: Mutex<Option<PyErr>> = Mutex::new(None);

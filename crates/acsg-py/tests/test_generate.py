@@ -185,6 +185,23 @@ def test_bad_bounds_and_options_are_value_errors():
         acsg.generate(*args, bounds={"z": (0, 1)}, assembled=np.diag([2.0, 1, 1, 1]))
     with pytest.raises(ValueError, match="6 values"):
         acsg.contacts(*args, [0, 0, 0])
+    with pytest.raises(ValueError, match="unknown strategy 'fastest'"):
+        acsg.generate(*args, bounds={"z": (0, 1)}, strategy="fastest")
+
+
+def test_the_paper_strategy_is_named_and_never_complete():
+    args = (fixture("slab.off"), fixture("cube.off"))
+    bounds = {"x": (-1, 1), "y": (-1, 1), "z": (0, 3), "rx": (-10, 10), "ry": (-10, 10), "rz": (-180, 180)}
+    paper = acsg.generate(*args, bounds=bounds, strategy="paper").document
+    full = acsg.generate(*args, bounds=bounds).document
+    assert paper["options"]["strategy"] == "paper"
+    assert "strategy" not in full["options"]
+    assert paper["complete"] is False and full["complete"] is True
+    # Every state the paper's algorithm finds, the default finds too.
+    def states(doc):
+        return {tuple((c["type"], c["fixed"], c["moving"]) for c in s["contacts"]) for s in doc["states"]}
+    assert len(states(paper)) > 1
+    assert states(paper) <= states(full)
 
 
 def test_bad_graph_files_raise_acsg_error(tmp_path):

@@ -19,6 +19,7 @@
 //! degenerate = false             # keep states with a degenerate contact
 //! threads = 0                    # 0: one per core
 //! effort = 1                     # search and proof budget, a multiple of the default
+//! strategy = "full"              # or "paper": the paper's algorithm, as a baseline
 //! assembled = [0, 0, 0, 0, 0, 0] # G as x, y, z, rx, ry, rz (degrees)
 //! ```
 
@@ -26,7 +27,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::graph::Options;
+use crate::graph::{Options, Strategy};
 use crate::pose::{Bounds, Pose, PoseError};
 use crate::units::LengthUnit;
 
@@ -106,6 +107,8 @@ struct OptionsTable {
     threads: Option<toml::Spanned<usize>>,
     #[serde(default = "default_effort")]
     effort: u32,
+    #[serde(default)]
+    strategy: Strategy,
     assembled: Option<Numbers>,
 }
 
@@ -270,6 +273,7 @@ impl Task {
             degenerate: file.options.degenerate,
             threads,
             effort: file.options.effort.max(1),
+            strategy: file.options.strategy,
             ..Options::default()
         };
         if let Some(g) = &file.options.assembled {

@@ -439,6 +439,7 @@ def generate(
     progress: Union[bool, Callable[[int, int, int, int], Any]] = False,
     effort: Optional[int] = None,
     units: Optional[str] = None,
+    strategy: Optional[str] = None,
 ) -> Graph:
     """Generates the contact state graph of a fixed and a moving part within bounds.
 
@@ -459,6 +460,9 @@ def generate(
     :param effort: a multiple (1..1000) of the default search budget per candidate.
     :param units: the length unit of paths given (mm, cm, m, in), as the CLI's
         ``--units``.
+    :param strategy: ``"full"`` (the default: every candidate decided) or ``"paper"``
+        (the paper's algorithm step by step, a baseline that proves nothing
+        infeasible), as the CLI's ``--strategy``.
     :returns: the :class:`Graph`. The GIL is released while it runs; Ctrl-C stops it
         (``KeyboardInterrupt``).
     :raises AcsgError: a part that cannot be read or is not a valid solid.
@@ -481,6 +485,7 @@ def generate(
             threads=threads,
             effort=effort,
             progress=callback,
+            strategy=strategy,
         )
     finally:
         if bar is not None:
@@ -569,6 +574,8 @@ def _matches(graph: Graph, task: Mapping[str, Any]) -> bool:
         and doc["fixed"]["path"] == a.name
         and doc["moving"]["path"] == b.name
         and doc["options"]["degenerate"] == bool(task.get("degenerate", False))
+        # The default strategy is not written.
+        and doc["options"].get("strategy", "full") == (task.get("strategy") or "full")
     )
 
 
@@ -581,7 +588,7 @@ def generate_many(
 
     :param tasks: each a dict of :func:`generate`'s arguments (``fixed``, ``moving``,
         ``bounds``, and any of ``degrees``, ``degenerate``, ``assembled``, ``threads``,
-        ``effort``, ``units``), plus optionally ``output``: a path the graph's JSON is
+        ``effort``, ``units``, ``strategy``), plus optionally ``output``: a path the graph's JSON is
         saved to. When that file already holds the graph of the same parts, bounds and
         options (written whole: files are written atomically), it is read instead of
         generated again, so a rerun of an interrupted batch does only what is left.

@@ -56,11 +56,13 @@ def generate(
     effort: Optional[int] = None,
     progress: Optional[Callable[[int, int, int, int], object]] = None,
     names: Optional[Tuple[str, str]] = None,
+    strategy: Optional[str] = None,
 ) -> str:
     """Generates the contact state graph; returns its JSON document. The GIL is
     released while it runs; ``progress(stage, done, total, states)`` is called between
     batches of searches, and an exception it raises (or Ctrl-C) stops the run and is
-    raised here."""
+    raised here. ``strategy``: ``"full"`` (default) or ``"paper"`` (the paper's
+    algorithm, a baseline)."""
 
 def contacts(
     fixed: Part,

@@ -22,7 +22,7 @@ use std::collections::BTreeSet;
 
 use super::prover::Links;
 use super::turns::Turns;
-use super::{Problem, SearchStats, is_strict_superset};
+use super::{Problem, SearchStats};
 use crate::contact::PrincipalContact;
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, scaled};
@@ -545,29 +545,8 @@ impl Problem<'_> {
         others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
         stats: &mut SearchStats,
     ) -> Option<Pose> {
-        stats.optimisations += 1;
-        let pose = self.solve(target, start, bounds);
-        let report = self.inspect(&pose)?;
-        if !self.is_clean(&report, &pose) {
-            return self.clear(target, pose, &report, bounds, stats);
-        }
-        let state = report.contacts;
-        if state.is_empty() {
-            return None;
-        }
-        if state == target {
-            return Some(pose);
-        }
-        if is_strict_superset(&state, target) {
-            // The target held, with more contacts: push those apart from here.
-            if let super::Search::Found(released) = self.find_below(target, &state, pose, stats) {
-                return Some(released);
-            }
-        }
-        if !others.iter().any(|(known, _)| *known == state) {
-            others.push((state, pose));
-        }
-        None
+        let pose = self.solve_from(target, start, bounds, stats);
+        self.settle(target, pose, bounds, others, stats)
     }
 }
 

@@ -16,6 +16,12 @@
 //! 3. every pose found is verified by the contact module: P(X) must equal the state
 //!    asked for, read the same at a looser tolerance, with no penetration. A pose
 //!    showing another state is reported as such.
+//!
+//! The pieces a search strategy builds on are public, so that another strategy (the
+//! paper's algorithm, `graph::Strategy::Paper`) uses the same ones: one local
+//! optimisation from a start ([`Problem::solve_from`]), the witness a pose gives
+//! ([`Problem::settle`], [`Problem::verify`]), fixed starts spread over the bounds
+//! ([`Problem::spread_starts`]) and the sound exclusion tests ([`Problem::exclusion`]).
 
 mod decide;
 mod interval;
@@ -453,6 +459,21 @@ impl<'a> Problem<'a> {
         self.clean_state(pose).filter(|contacts| !contacts.is_empty())
     }
 
+    /// One local optimisation (counted in `stats.optimisations`) from `start` towards a
+    /// pose within `bounds` where the target's contacts (sorted) hold and nothing
+    /// penetrates; the pose it reaches, which need not show the target (check it with
+    /// [`Problem::settle`] or [`Problem::verify`]).
+    pub fn solve_from(
+        &self,
+        target: &[PrincipalContact],
+        start: Pose,
+        bounds: &Bounds,
+        stats: &mut SearchStats,
+    ) -> Pose {
+        stats.optimisations += 1;
+        self.solve(target, start, bounds)
+    }
+
     /// One local optimisation in two phases: the contacts alone first (cheap, and for
     /// translations a convex problem, so a start pushed into the parts by the bounds
     /// does not trap it), then with the penetration depth, from there. Contact points
@@ -484,6 +505,54 @@ impl<'a> Problem<'a> {
             pose = minimise(margin, true, pose);
         }
         pose
+    }
+
+    /// The witness of `target` that a pose reached by [`Problem::solve_from`] gives, if
+    /// any: the pose itself when it verifies as the target; when the target's contacts
+    /// hold there but other pairs touch as well or come too close (the optimiser stops
+    /// where non-penetration becomes active, at contact rather than at clearance), the
+    /// pose reached by one more optimisation (counted) that pushes those pairs apart, if
+    /// it verifies. A clean pose showing another state is added to `others` (once per
+    /// state), so that it is not lost.
+    pub fn settle(
+        &self,
+        target: &[PrincipalContact],
+        pose: Pose,
+        bounds: &Bounds,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        stats: &mut SearchStats,
+    ) -> Option<Pose> {
+        let report = self.inspect(&pose)?;
+        if !self.is_clean(&report, &pose) {
+            return self.clear(target, pose, &report, bounds, stats);
+        }
+        let state = report.contacts;
+        if state.is_empty() {
+            return None;
+        }
+        if state == target {
+            return Some(pose);
+        }
+        if is_strict_superset(&state, target) {
+            // The target held, with more contacts: push those apart from here.
+            if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
+                return Some(released);
+            }
+        }
+        if !others.iter().any(|(known, _)| *known == state) {
+            others.push((state, pose));
+        }
+        None
+    }
+
+    /// `count` starting poses spread over the bounds, the same for every run: for
+    /// orientations at the centre of the bounds' rotations, then the centres of their
+    /// eight octants, then their eight corners, the translation that puts the points of
+    /// one of the target's contacts together (the contacts in turn, then other points
+    /// of their elements), clamped to the bounds.
+    #[must_use]
+    pub fn spread_starts(&self, target: &[PrincipalContact], count: usize) -> Vec<Pose> {
+        self.starts(target, count, &self.bounds)
     }
 
     /// One local optimisation that keeps the target's contacts and pushes the `extra`

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{Graph, Options, Stats};
+use super::{Graph, Options, Stats, Strategy};
 use crate::contact::ContactRecord;
 use crate::model::{Part, PartElements};
 use crate::pose::{Bounds, CONVENTION, Pose};
@@ -40,7 +40,8 @@ pub struct Document {
     /// Neighbour pairs of state ids.
     pub edges: Vec<[usize; 2]>,
     /// Whether every candidate the search met was witnessed or proved infeasible
-    /// (DOMAIN.md section 4): then no state within the bounds is missing.
+    /// (DOMAIN.md section 4): then no state within the bounds is missing. Always false
+    /// with the paper's strategy, which proves nothing infeasible.
     #[serde(default)]
     pub complete: bool,
     /// The candidates left undecided: states the graph may lack.
@@ -92,6 +93,10 @@ pub struct BoundsRecord {
 pub struct OptionsRecord {
     /// Whether degenerate states were kept.
     pub degenerate: bool,
+    /// The strategy that built the graph; written only when it is not the default
+    /// (`full`), so that the default's files are as before.
+    #[serde(default, skip_serializing_if = "Strategy::is_default")]
+    pub strategy: Strategy,
 }
 
 /// One state as written.
@@ -148,6 +153,7 @@ impl Document {
             },
             options: OptionsRecord {
                 degenerate: options.degenerate,
+                strategy: graph.strategy,
             },
             states: graph
                 .states

@@ -1,0 +1,228 @@
+//! The graph being built, apart from how it is searched: the states found (free space
+//! first), their canonical index, every candidate met and how it ended (the completeness
+//! record), the single-contact states that growth adds, and the counts. A search
+//! strategy ([`super::strategy`]) drives it through [`Store::record`] and reads it back;
+//! [`Store::finish`] adds the neighbour edges and hands over the [`Graph`].
+//!
+//! Every state enters through a verified witness: a strategy records a
+//! [`Decided`], whose witnesses the feasibility module has checked.
+
+use std::collections::{BTreeSet, HashMap};
+use std::time::Instant;
+
+use super::{Graph, Options, State, Stats, Undecided, neighbours, state_dof};
+use crate::contact::PrincipalContact;
+use crate::feasibility::{Decided, Decision, Problem};
+use crate::model::Part;
+use crate::pose::Pose;
+
+/// The graph being built.
+pub(crate) struct Store<'a> {
+    fixed: &'a Part,
+    moving: &'a Part,
+    options: &'a Options,
+    states: Vec<State>,
+    index: HashMap<Vec<PrincipalContact>, usize>,
+    /// Candidates decided or states known: never decided again.
+    seen: BTreeSet<Vec<PrincipalContact>>,
+    /// Candidates left undecided.
+    undecided: Vec<Undecided>,
+    /// Every single-contact state found, with its witness, in the order found: what
+    /// growth adds to states.
+    singles: Vec<(PrincipalContact, Pose)>,
+    /// Counts: the store keeps those of the graph and the completeness record, the
+    /// strategy adds those of its own work.
+    pub stats: Stats,
+    /// When the current stage began.
+    clock: Instant,
+}
+
+impl<'a> Store<'a> {
+    /// A graph holding free space alone, with a witness when some probed pose in the
+    /// bounds touches nothing.
+    pub fn new(fixed: &'a Part, moving: &'a Part, options: &'a Options, problem: &Problem<'_>) -> Store<'a> {
+        let root = free_pose(problem);
+        let mut store = Store {
+            fixed,
+            moving,
+            options,
+            states: Vec::new(),
+            index: HashMap::new(),
+            seen: BTreeSet::new(),
+            undecided: Vec::new(),
+            singles: Vec::new(),
+            stats: Stats::default(),
+            clock: Instant::now(),
+        };
+        store.states.push(State {
+            id: 0,
+            contacts: Vec::new(),
+            dof: 6,
+            degenerate: false,
+            witness: root,
+        });
+        store.index.insert(Vec::new(), 0);
+        store
+    }
+
+    /// The fixed part.
+    pub fn fixed(&self) -> &'a Part {
+        self.fixed
+    }
+
+    /// The moving part.
+    pub fn moving(&self) -> &'a Part {
+        self.moving
+    }
+
+    /// The options of the run.
+    pub fn options(&self) -> &'a Options {
+        self.options
+    }
+
+    /// The states so far; `states()[0]` is free space.
+    pub fn states(&self) -> &[State] {
+        &self.states
+    }
+
+    /// The single-contact states found, with their witnesses, in the order found.
+    pub fn singles(&self) -> &[(PrincipalContact, Pose)] {
+        &self.singles
+    }
+
+    /// Whether a candidate was decided already or is a known state.
+    pub fn is_seen(&self, contacts: &[PrincipalContact]) -> bool {
+        self.seen.contains(contacts)
+    }
+
+    /// Marks a candidate as taken up by the strategy (it will be recorded); false when
+    /// it was decided already or is a known state.
+    pub fn take_up(&mut self, contacts: &[PrincipalContact]) -> bool {
+        self.seen.insert(contacts.to_vec())
+    }
+
+    /// Whether a state holds a degenerate contact.
+    pub fn is_degenerate(&self, contacts: &[PrincipalContact]) -> bool {
+        contacts.iter().any(|pc| pc.degenerate(self.fixed, self.moving))
+    }
+
+    /// Whether the run leaves a state out for holding a degenerate contact.
+    pub fn leaves_out(&self, contacts: &[PrincipalContact]) -> bool {
+        !self.options.degenerate && self.is_degenerate(contacts)
+    }
+
+    /// Adds a verified state if it is new and wanted; its id and whether it is new
+    /// (`None` when left out as degenerate).
+    fn add_state(
+        &mut self,
+        contacts: Vec<PrincipalContact>,
+        witness: Pose,
+        problem: &Problem<'_>,
+    ) -> Option<(usize, bool)> {
+        if let Some(&id) = self.index.get(&contacts) {
+            return Some((id, false));
+        }
+        let degenerate = self.is_degenerate(&contacts);
+        if degenerate && !self.options.degenerate {
+            return None;
+        }
+        let id = self.states.len();
+        let placement = witness.to_affine(&self.options.assembled);
+        let dof = state_dof(self.fixed, self.moving, &contacts, &placement, problem.scene().scale());
+        self.seen.insert(contacts.clone());
+        self.index.insert(contacts.clone(), id);
+        if let [single] = contacts[..] {
+            self.singles.push((single, witness));
+        }
+        self.states.push(State {
+            id,
+            contacts,
+            dof,
+            degenerate,
+            witness: Some(witness),
+        });
+        Some((id, true))
+    }
+
+    /// Records how a candidate ended and the states met on the way (each with a
+    /// verified witness); how many states are new. The candidate counts as met once
+    /// here, whatever strategy decided it.
+    pub fn record(&mut self, target: Vec<PrincipalContact>, decided: Decided, problem: &Problem<'_>) -> Recorded {
+        self.stats.candidates += 1;
+        self.seen.insert(target.clone());
+        let mut recorded = Recorded::default();
+        match decided.decision {
+            Decision::Witnessed(pose) => {
+                recorded.witnessed = true;
+                recorded.new += usize::from(matches!(self.add_state(target, pose, problem), Some((_, true))));
+            }
+            Decision::Infeasible(_) => self.stats.infeasible += 1,
+            Decision::Undecided(open) => self.undecided.push(Undecided { contacts: target, open }),
+        }
+        for (state, pose) in decided.others {
+            if let Some((_, true)) = self.add_state(state, pose, problem) {
+                self.stats.found_on_the_way += 1;
+                recorded.new += 1;
+            }
+        }
+        recorded
+    }
+
+    /// Ends stage 1: its time is taken, and stage 2's begins.
+    pub fn end_stage1(&mut self) {
+        self.stats.stage1_seconds = self.clock.elapsed().as_secs_f64();
+        self.clock = Instant::now();
+    }
+
+    /// The finished graph: the neighbour edges added, the counts completed (stage 2's
+    /// time includes the edges), and the candidates left undecided whose states turned
+    /// up later counted as witnessed.
+    pub fn finish(mut self, problem: &Problem<'_>) -> Graph {
+        let edges = neighbours::neighbours(self.fixed, self.moving, &self.states, &self.index, problem);
+        self.stats.states = self.states.len();
+        self.stats.edges = edges.len();
+        self.stats.stage2_seconds = self.clock.elapsed().as_secs_f64();
+        let index = &self.index;
+        self.undecided.retain(|u| !index.contains_key(&u.contacts));
+        self.stats.undecided = self.undecided.len();
+        self.stats.witnessed = self.stats.candidates - self.stats.infeasible - self.stats.undecided;
+        Graph {
+            states: self.states,
+            edges,
+            stats: self.stats,
+            undecided: self.undecided,
+            strategy: self.options.strategy,
+        }
+    }
+}
+
+/// What recording one candidate changed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Recorded {
+    /// Whether the candidate itself was witnessed.
+    pub witnessed: bool,
+    /// New states, the candidate's and those met on the way.
+    pub new: usize,
+}
+
+/// A pose in the bounds where nothing touches: the centre, the faces' centres and the
+/// corners of the bounds, in that order.
+fn free_pose(problem: &Problem<'_>) -> Option<Pose> {
+    let bounds = problem.bounds();
+    let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+    let mut probes = vec![[0.5; 6]];
+    for k in 0..6 {
+        for end in [0.0, 1.0] {
+            let mut w = [0.5; 6];
+            w[k] = end;
+            probes.push(w);
+        }
+    }
+    for corner in 0..64u32 {
+        probes.push(std::array::from_fn(|k| f64::from((corner >> k) & 1)));
+    }
+    probes.into_iter().find_map(|w| {
+        let pose = Pose::from_array(std::array::from_fn(|k| lo[k] + (hi[k] - lo[k]) * w[k]));
+        problem.clean_state(&pose).is_some_and(|c| c.is_empty()).then_some(pose)
+    })
+}

@@ -1,0 +1,238 @@
+//! The default strategy ([`super::Strategy::Full`]): the paper's two stages widened so
+//! that every candidate is decided ([`Problem::decide`]): witnessed, proved infeasible,
+//! or recorded as undecided:
+//! 1. every single contact (each primitive principal contact, faces on faces, edges in
+//!    faces, contacts in concave edges and corners) is decided on its own;
+//! 2. breadth first, each state is grown by every single-contact state it does not
+//!    imply; the combination is mapped by the derived rules under every outcome
+//!    ([`rules::grow_every`]), pruned when it cannot exist or is already known, and
+//!    otherwise decided with warm starts from the parent's and the addition's witnesses.
+//!
+//! When the growth settles, every state is also searched one contact below, from its
+//! witness (descents); what they find grows again. A search that lands on a pose
+//! showing another state records that state (if new). Candidates of one round are
+//! decided in parallel and merged in a fixed order, so the output does not depend on
+//! the number of threads.
+
+use std::collections::BTreeSet;
+
+use rayon::prelude::*;
+
+use super::BATCH;
+use crate::contact::PrincipalContact;
+use crate::feasibility::{
+    Decided, Decision, PRIMITIVE_STARTS, Problem, SearchStats, Starts, is_primitive, single_contacts,
+};
+use crate::graph::Progress;
+use crate::graph::rules;
+use crate::graph::store::Store;
+use crate::pose::Pose;
+
+/// How many times the effort stage 1 spends on each single contact: they are few, and
+/// every state grows from them.
+const SINGLE_BOOST: u32 = 4;
+
+/// Constructive starts of a stage-2 search (after the warm starts).
+const GROWTH_STARTS: usize = 4;
+
+/// One stage-2 candidate to decide.
+struct Candidate {
+    target: Vec<PrincipalContact>,
+    parent: usize,
+    added: usize,
+}
+
+/// Runs both stages, then descents, until nothing new appears.
+pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn Fn(Progress) + Sync)) {
+    decide_singles(store, problem, progress);
+    store.end_stage1();
+    // Stage 2: every state grown by every single contact found, until nothing new
+    // appears; then every state searched one contact below, and grown again.
+    let mut grown = Vec::new();
+    loop {
+        grow(store, problem, &mut grown, progress);
+        if descend(store, problem) == 0 {
+            break;
+        }
+    }
+}
+
+/// Stage 1: every single contact decided (the PPCs, and the contacts that need no PPC
+/// to hold: a face flat on a face when the rotation is pinned, say).
+fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn Fn(Progress) + Sync)) {
+    let singles = single_contacts(store.fixed(), store.moving(), store.options().degenerate);
+    store.stats.ppc = singles.iter().filter(|pc| is_primitive(pc)).count();
+    store.stats.singles = singles.len();
+    let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(singles.len());
+    for chunk in singles.chunks(BATCH) {
+        results.par_extend(chunk.par_iter().map(|pc| {
+            let mut stats = SearchStats::default();
+            let starts = Starts {
+                warm: &[],
+                anchor: pc,
+                constructive: PRIMITIVE_STARTS,
+                boost: SINGLE_BOOST,
+            };
+            (problem.decide(&[*pc], &starts, &mut stats), stats)
+        }));
+        progress(Progress {
+            stage: 1,
+            done: results.len(),
+            total: singles.len(),
+            states: store.states().len(),
+        });
+    }
+    for (pc, (decided, stats)) in singles.iter().zip(results) {
+        let counts = &mut store.stats;
+        counts.stage1_optimisations += stats.optimisations;
+        counts.stage1_searched += usize::from(stats.optimisations > 0);
+        counts.boxes += stats.boxes;
+        let proved = matches!(decided.decision, Decision::Infeasible(_));
+        if stats.optimisations == 0 && proved && is_primitive(pc) {
+            counts.ppc_unreachable += 1;
+        }
+        if is_primitive(pc) && matches!(decided.decision, Decision::Witnessed(_)) {
+            counts.feasible_ppc += 1;
+        }
+        store.record(vec![*pc], decided, problem);
+    }
+}
+
+/// For every known state with several contacts, its subsets one contact smaller that
+/// are neither states nor candidates yet, each decided: first pushed apart from the
+/// state's witness, then in small boxes around it, then over the whole bounds. The new
+/// states.
+fn descend(store: &mut Store<'_>, problem: &Problem<'_>) -> usize {
+    let mut candidates = Vec::new();
+    for s in 0..store.states().len() {
+        let state = &store.states()[s];
+        let Some(witness) = state.witness else { continue };
+        if state.contacts.len() < 2 {
+            continue;
+        }
+        let (id, contacts) = (state.id, state.contacts.clone());
+        for skip in 0..contacts.len() {
+            let mut target = contacts.clone();
+            target.remove(skip);
+            if store.leaves_out(&target) || !store.take_up(&target) {
+                continue;
+            }
+            candidates.push((target, id, witness));
+        }
+    }
+    let states = store.states();
+    let results: Vec<(Decided, SearchStats)> = candidates
+        .par_iter()
+        .map(|(target, from, witness)| {
+            let mut stats = SearchStats::default();
+            let above = &states[*from].contacts;
+            let decided = problem.decide_below(target, above, *witness, &mut stats);
+            (decided, stats)
+        })
+        .collect();
+    let mut new = 0;
+    for ((target, _, _), (decided, stats)) in candidates.into_iter().zip(results) {
+        let counts = &mut store.stats;
+        counts.descents += 1;
+        counts.stage2_searched += usize::from(stats.optimisations > 0);
+        counts.stage2_optimisations += stats.optimisations;
+        counts.boxes += stats.boxes;
+        let recorded = store.record(target, decided, problem);
+        store.stats.found_by_descent += usize::from(recorded.witnessed && recorded.new > 0);
+        new += recorded.new;
+    }
+    new
+}
+
+/// Stage 2's growth: every state with every single contact found (in the order they
+/// were found; later ones grow the earlier states too), until no new state appears.
+/// Candidates of one round are decided in parallel, merged in order. `grown` holds, per
+/// state, how many of the single-contact states it has been grown by.
+fn grow(store: &mut Store<'_>, problem: &Problem<'_>, grown: &mut Vec<usize>, progress: &(dyn Fn(Progress) + Sync)) {
+    loop {
+        let candidates = candidates(store, grown);
+        if candidates.is_empty() {
+            return;
+        }
+        let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
+        for chunk in candidates.chunks(BATCH) {
+            let (states, singles) = (store.states(), store.singles());
+            results.par_extend(chunk.par_iter().map(|c| {
+                let mut stats = SearchStats::default();
+                let parent = states[c.parent].witness;
+                let (added, added_witness) = &singles[c.added];
+                let warm: Vec<Pose> = parent.into_iter().chain([*added_witness]).collect();
+                let starts = Starts {
+                    warm: &warm,
+                    anchor: added,
+                    constructive: GROWTH_STARTS,
+                    boost: 1,
+                };
+                (problem.decide(&c.target, &starts, &mut stats), stats)
+            }));
+            progress(Progress {
+                stage: 2,
+                done: results.len(),
+                total: candidates.len(),
+                states: store.states().len(),
+            });
+        }
+        for (candidate, (decided, stats)) in candidates.into_iter().zip(results) {
+            let counts = &mut store.stats;
+            counts.stage2_optimisations += stats.optimisations;
+            counts.stage2_searched += usize::from(stats.optimisations > 0);
+            counts.boxes += stats.boxes;
+            if stats.optimisations == 0 && matches!(decided.decision, Decision::Infeasible(_)) {
+                counts.pruned_unreachable += 1;
+            }
+            store.record(candidate.target, decided, problem);
+        }
+    }
+}
+
+/// The candidates of the (state, single contact) pairs not considered yet, in a fixed
+/// order.
+fn candidates(store: &mut Store<'_>, grown: &mut Vec<usize>) -> Vec<Candidate> {
+    let (fixed, moving) = (store.fixed(), store.moving());
+    let mut out = Vec::new();
+    let mut proposed = BTreeSet::new();
+    for parent in 1..store.states().len() {
+        let from = grown.get(parent).copied().unwrap_or(0);
+        let singles = store.singles().len();
+        if from == singles {
+            continue;
+        }
+        let state = store.states()[parent].contacts.clone();
+        let implied = rules::state_primitives(fixed, moving, &state);
+        for added in from..singles {
+            let pc = store.singles()[added].0;
+            store.stats.stage2_pairs += 1;
+            let own = rules::state_primitives(fixed, moving, &[pc]);
+            if state.contains(&pc) || (!own.is_empty() && own.is_subset(&implied)) {
+                store.stats.pruned_implied += 1;
+                continue;
+            }
+            let targets = rules::grow_every(fixed, moving, &state, pc);
+            if targets.is_empty() {
+                store.stats.pruned_topology += 1;
+            }
+            for target in targets {
+                if target == state {
+                    store.stats.pruned_implied += 1;
+                } else if store.leaves_out(&target) {
+                    store.stats.pruned_degenerate += 1;
+                } else if !store.is_seen(&target) && proposed.insert(target.clone()) {
+                    store.stats.stage2_candidates += 1;
+                    out.push(Candidate { target, parent, added });
+                } else {
+                    store.stats.pruned_duplicate += 1;
+                }
+            }
+        }
+        if grown.len() <= parent {
+            grown.resize(parent + 1, 0);
+        }
+        grown[parent] = singles;
+    }
+    out
+}
