@@ -15,15 +15,15 @@
 #![warn(missing_docs)]
 
 pub mod contact;
-pub mod convex;
 pub mod examples;
 pub mod export;
 pub mod feasibility;
+pub mod geometry;
 pub mod graph;
 pub mod io;
+pub mod load;
 pub mod model;
 pub mod pose;
 pub mod task;
 pub mod tolerance;
-pub mod topology;
 pub mod units;

@@ -74,3 +74,18 @@ pub const GAP_SEARCH_REL: f64 = 1e-2;
 /// the arithmetic of the contact tests; farther out, states appear and vanish by
 /// rounding (a cube 1e12 from the origin gave 54 states instead of 7).
 pub const OFFSET_REL: f64 = 1e4;
+
+/// Round-off allowed in a dot product of unit vectors or a coordinate of a unit vector
+/// (dimensionless): an edge leaving a vertex runs on the inner side of a face's plane
+/// when its direction's dot product with the face's normal is at most this; a box
+/// around an arc of unit vectors is grown by this much.
+pub const UNIT_ROUNDOFF: f64 = 1e-12;
+
+/// A unit axis and a unit direction whose dot product is smaller than this in
+/// magnitude are perpendicular (dimensionless): moving along the direction does not
+/// move along the axis.
+pub const ORTHOGONAL_DOT: f64 = 1e-15;
+
+/// A face's triangles may miss its area by this fraction before the triangulation is
+/// reported as failed (its loops intersect or touch).
+pub const TRIANGULATION_REL: f64 = 1e-6;

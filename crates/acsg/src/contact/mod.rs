@@ -19,9 +19,9 @@
 
 mod bvh;
 mod gauss;
-pub mod penetration;
+mod penetration;
 mod placed;
-pub mod queries;
+mod separation;
 mod touch;
 
 use std::fmt;
@@ -29,10 +29,13 @@ use std::fmt;
 use glam::{DAffine3, DVec3};
 use serde::{Deserialize, Serialize};
 
-pub use bvh::{Bounds3, Bvh};
+use bvh::Bvh;
+pub use penetration::{PenetrationReport, penetration};
 use placed::PlacedPart;
+pub use separation::{Separation, convex_separation};
 
-use crate::model::{ElementId, Part};
+use crate::geometry::Aabb;
+use crate::model::{ElementId, Part, length_scale};
 use crate::tolerance::{GAP_SEARCH_REL, scaled};
 
 /// The ten kinds of principal contact, the fixed part's element first.
@@ -87,6 +90,26 @@ impl ContactKind {
             ContactKind::VertexVertex => "v-v",
         }
     }
+
+    /// The kind of a contact between element `fixed` of the fixed part and element
+    /// `moving` of the moving part; two edges touching along a segment are e-e-t,
+    /// otherwise e-e. The one place where a pair of elements is told apart by kinds.
+    #[must_use]
+    pub fn of(fixed: ElementId, moving: ElementId, along_segment: bool) -> ContactKind {
+        use ElementId::{Edge, Face, Vertex};
+        match (fixed, moving) {
+            (Face(_), Face(_)) => ContactKind::FaceFace,
+            (Face(_), Edge(_)) => ContactKind::FaceEdge,
+            (Edge(_), Face(_)) => ContactKind::EdgeFace,
+            (Face(_), Vertex(_)) => ContactKind::FaceVertex,
+            (Vertex(_), Face(_)) => ContactKind::VertexFace,
+            (Edge(_), Edge(_)) if along_segment => ContactKind::EdgeEdgeTouch,
+            (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
+            (Edge(_), Vertex(_)) => ContactKind::EdgeVertex,
+            (Vertex(_), Edge(_)) => ContactKind::VertexEdge,
+            (Vertex(_), Vertex(_)) => ContactKind::VertexVertex,
+        }
+    }
 }
 
 impl fmt::Display for ContactKind {
@@ -113,8 +136,8 @@ impl PrincipalContact {
     pub fn degenerate(&self, fixed: &Part, moving: &Part) -> bool {
         use ContactKind::{EdgeEdgeTouch, EdgeVertex, VertexEdge, VertexVertex};
         matches!(self.kind, VertexVertex | EdgeVertex | VertexEdge | EdgeEdgeTouch)
-            && element_convex(fixed, self.fixed)
-            && element_convex(moving, self.moving)
+            && fixed.is_convex(self.fixed)
+            && moving.is_convex(self.moving)
     }
 
     /// Degrees of freedom left by this contact alone (DOMAIN.md section 3): 5 for
@@ -128,32 +151,6 @@ impl PrincipalContact {
             ContactKind::FaceFace | ContactKind::VertexVertex => 3,
             ContactKind::EdgeEdgeTouch => 2,
         }
-    }
-}
-
-fn element_convex(part: &Part, e: ElementId) -> bool {
-    match e {
-        ElementId::Vertex(v) => part.vertex(v).convex,
-        ElementId::Edge(x) => part.edge(x).convex,
-        ElementId::Face(_) => true,
-    }
-}
-
-/// The kind of a contact between two elements; two edges touching along a segment are
-/// e-e-t, otherwise e-e.
-pub(crate) fn kind_of(a: ElementId, b: ElementId, along_segment: bool) -> ContactKind {
-    use ElementId::{Edge, Face, Vertex};
-    match (a, b) {
-        (Face(_), Face(_)) => ContactKind::FaceFace,
-        (Face(_), Edge(_)) => ContactKind::FaceEdge,
-        (Edge(_), Face(_)) => ContactKind::EdgeFace,
-        (Face(_), Vertex(_)) => ContactKind::FaceVertex,
-        (Vertex(_), Face(_)) => ContactKind::VertexFace,
-        (Edge(_), Edge(_)) if along_segment => ContactKind::EdgeEdgeTouch,
-        (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
-        (Edge(_), Vertex(_)) => ContactKind::EdgeVertex,
-        (Vertex(_), Edge(_)) => ContactKind::VertexEdge,
-        (Vertex(_), Vertex(_)) => ContactKind::VertexVertex,
     }
 }
 
@@ -180,7 +177,7 @@ pub struct ContactScene<'a> {
     moving_local: PlacedPart<'a>,
     moving: &'a Part,
     fixed_elements: Vec<ElementId>,
-    fixed_boxes: Vec<Bounds3>,
+    fixed_boxes: Vec<Aabb>,
     moving_elements: Vec<ElementId>,
     moving_bvh: Bvh,
     fixed_pieces: penetration::PreparedPieces,
@@ -194,13 +191,13 @@ impl<'a> ContactScene<'a> {
     #[must_use]
     pub fn new(fixed: &'a Part, moving: &'a Part) -> ContactScene<'a> {
         let placed = PlacedPart::new(fixed, &DAffine3::IDENTITY);
-        let fixed_elements = placed.elements();
-        let boxes: Vec<Bounds3> = fixed_elements.iter().map(|&e| placed.bounds(e)).collect();
-        let scale = fixed.bounds().diagonal().max(moving.bounds().diagonal());
+        let fixed_elements = fixed.elements();
+        let boxes: Vec<Aabb> = fixed_elements.iter().map(|&e| placed.bounds(e)).collect();
+        let scale = length_scale(fixed, moving);
         let bvh = Bvh::new(&boxes);
         let moving_local = PlacedPart::new(moving, &DAffine3::IDENTITY);
-        let moving_elements = moving_local.elements();
-        let moving_boxes: Vec<Bounds3> = moving_elements.iter().map(|&e| moving_local.bounds(e)).collect();
+        let moving_elements = moving.elements();
+        let moving_boxes: Vec<Aabb> = moving_elements.iter().map(|&e| moving_local.bounds(e)).collect();
         ContactScene {
             fixed: placed,
             moving,
@@ -216,7 +213,7 @@ impl<'a> ContactScene<'a> {
         }
     }
 
-    /// The signed penetration depth on the convex pieces ([`penetration::penetration`]):
+    /// The signed penetration depth on the convex pieces ([`penetration()`]):
     /// positive when the parts penetrate, at most zero otherwise.
     #[must_use]
     pub fn penetration_depth(&self, moving_to_fixed: &DAffine3) -> f64 {
@@ -381,7 +378,7 @@ impl<'a> ContactScene<'a> {
                 PrincipalContact {
                     fixed: a,
                     moving: b,
-                    kind: kind_of(a, b, along_segment),
+                    kind: ContactKind::of(a, b, along_segment),
                 }
             })
             .collect();

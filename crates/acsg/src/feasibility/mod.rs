@@ -117,7 +117,7 @@ pub fn single_contacts(fixed: &Part, moving: &Part, degenerate: bool) -> Vec<Pri
             if !wanted {
                 continue;
             }
-            let kind = crate::contact::kind_of(a, b, matches!((a, b), (Edge(_), Edge(_))));
+            let kind = ContactKind::of(a, b, matches!((a, b), (Edge(_), Edge(_))));
             out.push(PrincipalContact {
                 fixed: a,
                 moving: b,

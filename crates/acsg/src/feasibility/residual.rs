@@ -8,7 +8,7 @@
 
 use glam::{DAffine3, DVec3};
 
-use crate::contact::queries::{PlanarRegion, Segment, clip_convex, point_segment};
+use crate::geometry::{PlanarRegion, Segment, clip_convex, point_segment};
 use crate::model::{EdgeId, FaceId, Part, VertexId};
 
 /// A face's plane and loops as points, in its part's own frame.

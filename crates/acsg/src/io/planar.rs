@@ -8,6 +8,7 @@
 use glam::{DVec2, DVec3};
 
 use super::{MeshSoup, ParseError, Place};
+use crate::geometry::{Aabb, newell, shoelace};
 
 /// One planar face of a CAD B-rep, in millimetres.
 #[derive(Clone, Debug)]
@@ -59,12 +60,8 @@ pub(crate) fn net_shape(net: &[Vec<DVec3>]) -> NetShape {
         }
     }
     let points: Vec<DVec3> = net.iter().flatten().copied().collect();
-    let (lo, hi) = points
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(*p), hi.max(*p))
-        });
-    let size = (hi - lo).length();
+    let bounds = Aabb::around(points.iter().copied());
+    let size = (bounds.max - bounds.min).length();
     if !(size.is_finite() && size > 0.0) || normal.length() <= 1e-12 * size * size {
         return NetShape::Degenerate;
     }
@@ -104,16 +101,15 @@ pub(crate) fn line_deviation(points: &[DVec3]) -> (f64, f64) {
     (deviation, crate::tolerance::COPLANAR_REL * extent)
 }
 
-/// Newell's normal of a polygon (its length is twice the area), counter-clockwise
-/// order giving the normal the right-hand rule says.
-pub(crate) fn newell(points: &[DVec3]) -> DVec3 {
-    let n = points.len();
-    (0..n).map(|i| points[i].cross(points[(i + 1) % n])).sum::<DVec3>() / 2.0
+/// A polygon's area vector: its normal by the right-hand rule (counter-clockwise
+/// order), as long as its area.
+pub(crate) fn area_vector(points: &[DVec3]) -> DVec3 {
+    newell(points.iter().copied()) / 2.0
 }
 
+/// The signed area of a polygon in a plane (positive counter-clockwise).
 fn signed_area(points: &[DVec2]) -> f64 {
-    let n = points.len();
-    (0..n).map(|i| points[i].perp_dot(points[(i + 1) % n])).sum::<f64>() / 2.0
+    shoelace(points) / 2.0
 }
 
 /// Builds the soup from planar faces. When every face's normal points inward (the
@@ -125,12 +121,9 @@ fn signed_area(points: &[DVec2]) -> f64 {
 /// 3 distinct points, a zero normal, a point off the face's plane, or a face whose holes
 /// cannot be triangulated.
 pub(crate) fn soup_from_faces(mut faces: Vec<PlanarFace>, export_hint: &str) -> Result<MeshSoup, ParseError> {
-    let all = faces.iter().flat_map(|f| f.loops.iter().flatten().copied());
-    let (lo, hi) = all.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-        (lo.min(p), hi.max(p))
-    });
-    let size = if lo.x.is_finite() {
-        (hi - lo).length().max(1e-9)
+    let bounds = Aabb::around(faces.iter().flat_map(|f| f.loops.iter().flatten().copied()));
+    let size = if bounds.min.x.is_finite() {
+        (bounds.max - bounds.min).length().max(1e-9)
     } else {
         1.0
     };

@@ -37,7 +37,7 @@ use std::io::Read;
 
 use glam::DVec3;
 
-use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, newell, soup_from_faces};
+use super::planar::{NetShape, PlanarFace, area_vector, line_deviation, net_shape, soup_from_faces};
 use super::text::read_limited;
 use super::{MeshSoup, ParseError, Place};
 
@@ -1049,7 +1049,7 @@ impl Model {
         for k in 0..sides {
             let n = (k + 1) % sides;
             let quad = vec![ring_a[k], ring_a[n], ring_b[n], ring_b[k]];
-            let mut normal = newell(&quad);
+            let mut normal = area_vector(&quad);
             let centre = quad.iter().copied().sum::<DVec3>() / 4.0;
             if normal.dot((centre - origin).reject_from_normalized(axis)) < 0.0 {
                 normal = -normal;
