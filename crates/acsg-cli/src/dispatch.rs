@@ -17,7 +17,7 @@ use glam::DAffine3;
 use crate::args::{Cli, Command, ExportFormat, RunFlags, UnitsFlag, UsageError, check_facet};
 use crate::batch::{BatchFlags, run_batch};
 use crate::generate::{Job, generate_and_write};
-use crate::print::{Shown, print_contacts, print_inspection};
+use crate::print::{ContactsAtPose, Shown, print_contacts, print_inspection};
 
 /// Runs one command line.
 pub(crate) fn run(cli: Cli) -> anyhow::Result<()> {
@@ -130,7 +130,14 @@ fn contacts(paths: [&Path; 2], pose: &Pose, assembled: &Pose, units: &UnitsFlag,
     let g = assembled.to_affine(&DAffine3::IDENTITY);
     let placement = pose.to_affine(&g);
     let report = acsg::contact::ContactScene::new(&fixed, &moving).evaluate(&placement, shown.tol);
-    print_contacts(&fixed, &moving, pose, &g, &report, &Shown { length, ..shown })
+    let at = ContactsAtPose {
+        fixed: &fixed,
+        moving: &moving,
+        pose,
+        assembled: &g,
+        report: &report,
+    };
+    print_contacts(&at, &Shown { length, ..shown })
 }
 
 /// `acsg generate`: the graph of two part files within bounds given as text.

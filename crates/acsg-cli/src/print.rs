@@ -251,44 +251,36 @@ impl Shown {
     }
 }
 
-pub(crate) fn print_contacts(
-    fixed: &Part,
-    moving: &Part,
-    pose: &Pose,
-    assembled: &DAffine3,
-    report: &ContactReport,
-    shown: &Shown,
-) -> anyhow::Result<()> {
-    let Shown { tol, json, length } = shown;
-    let (tol, json) = (*tol, *json);
+/// The contacts at one pose, as `acsg contacts` found them.
+pub(crate) struct ContactsAtPose<'a> {
+    pub(crate) fixed: &'a Part,
+    pub(crate) moving: &'a Part,
+    pub(crate) pose: &'a Pose,
+    /// The assembled pose G.
+    pub(crate) assembled: &'a DAffine3,
+    pub(crate) report: &'a ContactReport,
+}
+
+/// Prints the contacts at one pose, their elements' coordinates, the penetration and
+/// the smallest gap.
+pub(crate) fn print_contacts(at: &ContactsAtPose<'_>, shown: &Shown) -> anyhow::Result<()> {
+    let ContactsAtPose {
+        fixed,
+        moving,
+        pose,
+        assembled,
+        report,
+    } = *at;
     let records: Vec<ContactRecord> = report
         .contacts
         .iter()
         .map(|c| ContactRecord::of(c, fixed, moving))
         .collect();
-    let mut out = std::io::stdout().lock();
-    if json {
-        let doc = ContactsDocument {
-            convention: acsg::pose::CONVENTION,
-            units: acsg::graph::document::Units {
-                length: length.clone(),
-                angle: "radians".into(),
-            },
-            pose: pose.to_array(),
-            matrix: pose.matrix(assembled),
-            tolerance: tol,
-            contacts: records,
-            penetration: report.penetration,
-            min_gap: report.min_gap,
-            parts: PartsDocument {
-                fixed: &PartElements::of(fixed),
-                moving: &PartElements::of(moving),
-            },
-        };
-        serde_json::to_writer_pretty(&mut out, &doc).context("writing JSON")?;
-        writeln!(out)?;
-        return Ok(());
+    if shown.json {
+        return print_contacts_json(at, records, shown);
     }
+    let length = &shown.length;
+    let mut out = std::io::stdout().lock();
     let placement = pose.to_affine(assembled);
     let [x, y, z, rx, ry, rz] = pose.to_array();
     let deg = |a: f64| a.to_degrees();
@@ -328,9 +320,34 @@ pub(crate) fn print_contacts(
         None => writeln!(
             out,
             "min gap      >= {} (1% of L)",
-            acsg::tolerance::GAP_SEARCH_REL * fixed.bounds().diagonal().max(moving.bounds().diagonal())
+            acsg::tolerance::GAP_SEARCH_REL * acsg::model::length_scale(fixed, moving)
         )?,
     }
+    Ok(())
+}
+
+/// [`print_contacts`] as one JSON object.
+fn print_contacts_json(at: &ContactsAtPose<'_>, records: Vec<ContactRecord>, shown: &Shown) -> anyhow::Result<()> {
+    let doc = ContactsDocument {
+        convention: acsg::pose::CONVENTION,
+        units: acsg::graph::document::Units {
+            length: shown.length.clone(),
+            angle: "radians".into(),
+        },
+        pose: at.pose.to_array(),
+        matrix: at.pose.matrix(at.assembled),
+        tolerance: shown.tol,
+        contacts: records,
+        penetration: at.report.penetration,
+        min_gap: at.report.min_gap,
+        parts: PartsDocument {
+            fixed: &PartElements::of(at.fixed),
+            moving: &PartElements::of(at.moving),
+        },
+    };
+    let mut out = std::io::stdout().lock();
+    serde_json::to_writer_pretty(&mut out, &doc).context("writing JSON")?;
+    writeln!(out)?;
     Ok(())
 }
 

@@ -226,7 +226,7 @@ fn the_same_parts_give_the_same_states_whatever_the_file() {
     let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
     let block = Part::from_path(&fixtures.join("block_with_hole.off")).unwrap();
     let peg = Part::from_path(&fixtures.join("peg.off")).unwrap();
-    let scale = block.bounds().diagonal().max(peg.bounds().diagonal());
+    let scale = acsg::model::length_scale(&block, &peg);
     // The OFF text with a change to its vertex lines or its face lines.
     let text = std::fs::read_to_string(fixtures.join("peg.off")).unwrap();
     let lines: Vec<&str> = text.lines().collect();

@@ -189,7 +189,7 @@ fn difference_facets(va: &[DVec3], vb: &[DVec3], diff: &[DVec3], tiny: f64) -> V
 }
 
 fn minkowski(a: &Part, b: &Part, gap_rel: f64) -> Option<Minkowski> {
-    let scale = a.bounds().diagonal().max(b.bounds().diagonal());
+    let scale = acsg::model::length_scale(a, b);
     let (tiny, gap) = (1e-9 * scale, gap_rel * scale);
     let va: Vec<DVec3> = a.vertices().iter().map(|v| v.position).collect();
     let vb: Vec<DVec3> = b.vertices().iter().map(|v| v.position).collect();

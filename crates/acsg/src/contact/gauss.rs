@@ -17,7 +17,7 @@ use glam::{DAffine3, DMat3, DVec3};
 use super::bvh::Bvh;
 use super::separation::Separation;
 use crate::geometry::{Aabb, ConvexPolytope, weld};
-use crate::tolerance::UNIT_ROUNDOFF;
+use crate::tolerance::ROUNDOFF_REL;
 
 /// A convex polytope with its vertex adjacency and edge-face incidence.
 #[derive(Clone, Debug)]
@@ -178,7 +178,7 @@ fn morton(n: DVec3) -> u64 {
 /// The box around a short great-circle arc from `u` to `v` (unit vectors).
 fn arc_bounds(u: DVec3, v: DVec3) -> Aabb {
     let half_angle = 0.5 * u.dot(v).clamp(-1.0, 1.0).acos();
-    Aabb::around([u, v]).inflated(1.0 - half_angle.cos() + UNIT_ROUNDOFF)
+    Aabb::around([u, v]).inflated(1.0 - half_angle.cos() + ROUNDOFF_REL)
 }
 
 /// Whether arcs (a, b) and (c, d) on the unit sphere cross (Gregorius's test).

@@ -366,7 +366,7 @@ mod tests {
     #[test]
     fn box_in_the_corner_of_the_l_block() {
         let (l_block, boxed) = (fixture("l_block.off"), fixture("box.off"));
-        let l = l_block.bounds().diagonal().max(boxed.bounds().diagonal());
+        let l = length_scale(&l_block, &boxed);
         let at = |x, y, z| penetration(&l_block, &boxed, &shift(x, y, z));
 
         let r = at(0.0, 0.0, 0.0);
@@ -413,7 +413,7 @@ mod tests {
     #[test]
     fn peg_in_the_hole() {
         let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let l = block.bounds().diagonal().max(peg.bounds().diagonal());
+        let l = length_scale(&block, &peg);
         let r = penetration(&block, &peg, &DAffine3::IDENTITY);
         assert_near!(r.depth, -1.0, 1e-9 * l);
         // The peg's pieces stand in the hole: their corners are outside every block piece.

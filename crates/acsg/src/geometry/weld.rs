@@ -3,6 +3,8 @@
 use glam::DVec3;
 use rustc_hash::FxHashMap as HashMap;
 
+use crate::tolerance::ROUNDOFF_REL;
+
 /// Merges points closer than `tol`; returns the merged points and, for each input
 /// point, its merged index. The first point of a cluster represents it.
 pub(crate) fn weld(points: &[DVec3], tol: f64) -> (Vec<DVec3>, Vec<u32>) {
@@ -12,7 +14,7 @@ pub(crate) fn weld(points: &[DVec3], tol: f64) -> (Vec<DVec3>, Vec<u32>) {
     // A cell no smaller than a tiny fraction of the coordinates, so that keys stay far
     // from overflow even for tol = 0.
     let magnitude = points.iter().map(|p| p.abs().max_element()).fold(1.0, f64::max);
-    let cell = (tol * 1024.0).max(magnitude * 1e-12);
+    let cell = (tol * 1024.0).max(magnitude * ROUNDOFF_REL);
     let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::default();
     let mut merged: Vec<DVec3> = Vec::new();
     let mut map = Vec::with_capacity(points.len());

@@ -8,6 +8,7 @@ use glam::{DAffine3, DVec3};
 
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::model::{ElementId, Part};
+use crate::tolerance::RANK_REL;
 
 /// Contact points (A's frame) with the directions they block.
 fn constraints(fixed: &Part, moving: &Part, pc: &PrincipalContact, t: &DAffine3) -> Vec<(DVec3, DVec3)> {
@@ -76,7 +77,7 @@ pub fn state_dof(fixed: &Part, moving: &Part, contacts: &[PrincipalContact], t: 
             [n.x, n.y, n.z, m.x, m.y, m.z]
         })
         .collect();
-    6 - rank(&mut rows, 1e-7) as u8
+    6 - rank(&mut rows, RANK_REL) as u8
 }
 
 /// Rank by Gaussian elimination with full row pivoting; entries below `tol` count as 0.

@@ -11,7 +11,7 @@ use super::numbering::Numbering;
 use crate::geometry::{plane_basis, shoelace};
 use crate::load::validation::{DefectKind, ValidationReport};
 use crate::model::{Edge, EdgeId, Face, Loop, Vertex, VertexId};
-use crate::tolerance::{AREA_REL, PARALLEL_SIN, TRIANGULATION_REL, UNIT_ROUNDOFF};
+use crate::tolerance::{AREA_REL, PARALLEL_SIN, ROUNDOFF_REL, TRIANGULATION_REL};
 
 impl Mesh {
     /// The vertices in canonical order, with their faces and edges.
@@ -186,7 +186,7 @@ pub(super) fn classify_vertices(vertices: &mut [Vertex], edges: &[Edge], faces: 
             let [a, b] = edges[e.index()].vertices;
             let other = if a.index() == i { b } else { a };
             let d = (positions[other.index()] - here).normalize();
-            v.faces.iter().all(|f| faces[f.index()].normal.dot(d) <= UNIT_ROUNDOFF)
+            v.faces.iter().all(|f| faces[f.index()].normal.dot(d) <= ROUNDOFF_REL)
         });
         v.convex = corner_convex[i] && cone_convex && v.edges.iter().all(|e| edges[e.index()].convex);
     }
