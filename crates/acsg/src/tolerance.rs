@@ -40,9 +40,9 @@ pub fn near(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
 }
 
-/// Asserts that two floating-point values (or iterables of them, element-wise)
-/// are within an absolute tolerance, printing both on failure.
-#[macro_export]
+/// Asserts that two floating-point values are within an absolute tolerance, printing
+/// both on failure (the crate's own tests; not exported).
+#[cfg(test)]
 macro_rules! assert_near {
     ($a:expr, $b:expr, $tol:expr $(,)?) => {{
         let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
@@ -55,6 +55,8 @@ macro_rules! assert_near {
         );
     }};
 }
+#[cfg(test)]
+pub(crate) use assert_near;
 
 /// Largest deviation `max |RᵀR − I|` accepted for the rotation part of a rigid
 /// transform (dimensionless; admits matrices written with ~7 significant digits).

@@ -3,8 +3,15 @@
 
 use std::path::PathBuf;
 
-use acsg::assert_near;
 use acsg::model::{Part, ppc_count};
+
+/// Asserts that two numbers are within `tol` of each other, printing both if not.
+macro_rules! assert_near {
+    ($a:expr, $b:expr, $tol:expr $(,)?) => {{
+        let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
+        assert!(acsg::tolerance::near(a, b, tol), "{} = {a}, {} = {b}: more than {tol} apart", stringify!($a), stringify!($b));
+    }};
+}
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -220,8 +220,9 @@ impl<'a> ContactScene<'a> {
         penetration::penetration_prepared(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed, self.scale).depth
     }
 
-    /// The penetration depth when positive, else 0 ([`penetration::penetration_excess`]):
-    /// the same value as `penetration_depth(..).max(0.0)`, faster.
+    /// The penetration depth when positive, else 0: the same value as
+    /// `penetration_depth(..).max(0.0)`, faster (a pair of pieces is dropped at its first
+    /// separating axis).
     #[must_use]
     pub fn penetration_excess(&self, moving_to_fixed: &DAffine3) -> f64 {
         penetration::penetration_excess(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed)
@@ -229,7 +230,8 @@ impl<'a> ContactScene<'a> {
 
     /// The open intervals of `s` over which the moving part, placed by
     /// `moving_to_fixed` and then translated by `s · direction`, penetrates the fixed
-    /// part by more than `depth` ([`penetration::blocked_along`]).
+    /// part by more than `depth`: one interval per pair of convex pieces that penetrates
+    /// somewhere on the line (unsorted; their union is where the line is blocked).
     #[must_use]
     pub fn blocked_along(&self, moving_to_fixed: &DAffine3, direction: DVec3, depth: f64) -> Vec<(f64, f64)> {
         penetration::blocked_along(

@@ -3,7 +3,7 @@
 //! witness pose, a proof that no pose exists (with the rules that proved it), or
 //! undecided with the smallest box the proof left open.
 //!
-//! A decision ([`Problem::decide`]) is a branch and prune over boxes of poses:
+//! A decision (`Problem::decide`) is a branch and prune over boxes of poses:
 //! 1. local searches first: Levenberg–Marquardt within the bounds on residuals that
 //!    vanish exactly when the contacts hold with their contact points inside the
 //!    elements' relative interiors (with a margin) and nothing penetrates, from warm,

@@ -59,7 +59,7 @@ fn constraints(fixed: &Part, moving: &Part, pc: &PrincipalContact, t: &DAffine3)
 /// The degrees of freedom a state leaves at the pose `t` (B's frame to A's); `scale` is
 /// the length scale L.
 #[must_use]
-pub fn state_dof(fixed: &Part, moving: &Part, contacts: &[PrincipalContact], t: &DAffine3, scale: f64) -> u8 {
+pub(crate) fn state_dof(fixed: &Part, moving: &Part, contacts: &[PrincipalContact], t: &DAffine3, scale: f64) -> u8 {
     let pairs: Vec<(DVec3, DVec3)> = contacts
         .iter()
         .flat_map(|pc| constraints(fixed, moving, pc, t))

@@ -3,13 +3,13 @@
 //! relation between them.
 //!
 //! The generator follows the paper's two stages, with every candidate decided
-//! ([`Problem::decide`](crate::feasibility::Problem::decide)): witnessed, proved
+//! (`Problem::decide` in module `feasibility`): witnessed, proved
 //! infeasible, or recorded as undecided:
 //! 1. every single contact (each primitive principal contact, faces on faces, edges in
 //!    faces, contacts in concave edges and corners) is decided on its own;
 //! 2. breadth first, each state is grown by every single-contact state it does not
 //!    imply; the combination is mapped by the derived rules under every outcome
-//!    ([`rules::grow_every`]), pruned when it cannot exist or is already known, and
+//!    (module `rules`), pruned when it cannot exist or is already known, and
 //!    otherwise decided with warm starts from the parent's and the addition's witnesses.
 //!
 //! When the growth settles, every state is also searched one contact below, from its
@@ -25,7 +25,7 @@
 
 pub mod document;
 mod dof;
-pub mod rules;
+pub(crate) mod rules;
 
 use std::collections::{BTreeSet, HashMap};
 use std::time::Instant;
@@ -42,7 +42,7 @@ use crate::model::Part;
 use crate::pose::{Bounds, Pose};
 
 pub use document::Document;
-pub use dof::state_dof;
+pub(crate) use dof::state_dof;
 
 /// How to generate a graph.
 #[derive(Clone, Debug, PartialEq)]
