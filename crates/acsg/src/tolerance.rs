@@ -1,7 +1,7 @@
 //! The one tolerance policy of the crate.
 //!
 //! Every geometric comparison is made against a length scale `L`, the larger
-//! bounding-box diagonal of the parts involved (DOMAIN.md section 7), times one of the
+//! bounding-box diagonal of the parts involved (docs/concepts.md#tolerances), times one of the
 //! named relative constants below. Nothing else in the crate invents an epsilon.
 
 /// A listed contact holds when its elements are this close, relative to `L`.

@@ -9,7 +9,12 @@ use acsg::model::{Part, ppc_count};
 macro_rules! assert_near {
     ($a:expr, $b:expr, $tol:expr $(,)?) => {{
         let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
-        assert!(acsg::tolerance::near(a, b, tol), "{} = {a}, {} = {b}: more than {tol} apart", stringify!($a), stringify!($b));
+        assert!(
+            acsg::tolerance::near(a, b, tol),
+            "{} = {a}, {} = {b}: more than {tol} apart",
+            stringify!($a),
+            stringify!($b)
+        );
     }};
 }
 

@@ -110,7 +110,7 @@ fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_touching
     for &[a, b] in &graph.edges {
         let (small, large) = (&graph.states[a], &graph.states[b]);
         if a == 0 {
-            // Neighbours are states whose regions touch (DOMAIN.md section 4): next to
+            // Neighbours are states whose regions touch (docs/concepts.md#the-graph): next to
             // the state's witness some pose is free (the parts apart, clean).
             let witness = large.witness.unwrap().to_array();
             let mut rng = 0x5EED_u64 ^ b as u64;

@@ -1,5 +1,6 @@
 //! Contact geometry at a pose: which elements touch, the contact state P(X) under the
-//! principal-contact rule (DOMAIN.md section 3), and whether the parts penetrate.
+//! principal-contact rule (docs/concepts.md#principal-contacts), and whether the parts
+//! penetrate.
 //!
 //! ```
 //! use acsg::contact::{ContactKind, ContactScene};
@@ -140,8 +141,8 @@ impl PrincipalContact {
             && moving.is_convex(self.moving)
     }
 
-    /// Degrees of freedom left by this contact alone (DOMAIN.md section 3): 5 for
-    /// single-point contacts, 4 for an edge in a face or a vertex in an edge, 3 for
+    /// Degrees of freedom left by this contact alone (docs/concepts.md#degrees-of-freedom):
+    /// 5 for single-point contacts, 4 for an edge in a face or a vertex in an edge, 3 for
     /// face on face or vertex on vertex, 2 for collinear edges.
     #[must_use]
     pub fn dof(&self) -> u8 {

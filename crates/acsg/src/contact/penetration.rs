@@ -13,7 +13,7 @@
 //!   or edge-edge).
 //!
 //! A non-convex part is handled through its exact convex pieces
-//! ([`Part::convex_pieces`]), taking the worst pair (DOMAIN.md section 7). Because the
+//! ([`Part::convex_pieces`]), taking the worst pair (docs/concepts.md#feasibility). Because the
 //! pieces are solids, a part wholly inside the other is reported as penetrating (a
 //! surface-only test would miss it).
 

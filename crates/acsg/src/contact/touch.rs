@@ -1,5 +1,5 @@
 //! I(a, b) = relint(a) ∩ relint(b) for a pair of placed elements, under a tolerance,
-//! and the principal rule of DOMAIN.md section 3.
+//! and the principal rule of docs/concepts.md#principal-contacts.
 //!
 //! Relative interiors are shrunk by the tolerance `tol`: a point counts as inside an
 //! edge only when it is farther than `tol` from both end points, inside a face only
@@ -280,9 +280,9 @@ pub(crate) fn closure_holders(part: &Part, e: ElementId) -> Vec<ElementId> {
     out
 }
 
-/// The principal touches among `touches` (DOMAIN.md section 3): a touch (a, b) is
-/// implied, not principal, when a touch (a'', b'') with a ⊆ closure(a''),
-/// b ⊆ closure(b'') has a set whose closure contains I(a, b).
+/// The principal touches among `touches` (docs/concepts.md#principal-contacts): a touch (a,
+/// b) is implied, not principal, when a touch (a'', b'') with a ⊆ closure(a''), b ⊆
+/// closure(b'') has a set whose closure contains I(a, b).
 pub(crate) fn principal(
     fixed: &Part,
     moving: &Part,

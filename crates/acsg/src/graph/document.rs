@@ -40,7 +40,7 @@ pub struct Document {
     /// Neighbour pairs of state ids.
     pub edges: Vec<[usize; 2]>,
     /// Whether every candidate the search met was witnessed or proved infeasible
-    /// (DOMAIN.md section 4): then no state within the bounds is missing.
+    /// (docs/concepts.md#the-graph): then no state within the bounds is missing.
     #[serde(default)]
     pub complete: bool,
     /// The candidates left undecided: states the graph may lack.

@@ -1,8 +1,9 @@
 //! Degrees of freedom of a contact state at its witness: 6 minus the rank of the
 //! contact constraints (one unit wrench per contact point and normal direction). For a
-//! single contact this gives DOMAIN.md section 3's table (5 for point contacts, 4 for an
-//! edge in a face or a vertex in a groove, 3 for face on face or a vertex in a corner,
-//! 2 for an edge in a groove); for several contacts it counts what they leave together.
+//! single contact this gives the table of docs/concepts.md#degrees-of-freedom (5 for point
+//! contacts, 4 for an edge in a face or a vertex in a groove, 3 for face on face or a
+//! vertex in a corner, 2 for an edge in a groove); for several contacts it counts what they
+//! leave together.
 
 use glam::{DAffine3, DVec3};
 

@@ -1,5 +1,5 @@
 //! The Assembly Contact State Graph: every contact state that some pose within the
-//! bounds shows (DOMAIN.md section 4), each with a verified witness, and the neighbour
+//! bounds shows (docs/concepts.md#the-graph), each with a verified witness, and the neighbour
 //! relation between them.
 //!
 //! The generator follows the paper's two stages, with every candidate decided
@@ -587,7 +587,7 @@ impl<'a> Generator<'a> {
     }
 
     /// Neighbour pairs: free space with every single-PPC state; a state with each state
-    /// it grows into by one PPC (DOMAIN.md section 4). The PPCs tried are those some
+    /// it grows into by one PPC (docs/concepts.md#the-graph). The PPCs tried are those some
     /// known state implies: a state grown into holds the PPC made, whether or not that
     /// PPC was found feasible alone in stage 1.
     fn neighbours(&self) -> Vec<[usize; 2]> {

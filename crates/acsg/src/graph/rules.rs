@@ -1,6 +1,6 @@
 //! The combinatorial side of stage 2: which primitive contacts a state already implies
 //! (its KLC), and what a state plus one more primitive contact can become (the derived
-//! mapping rules of DOMAIN.md section 6, with topological existence).
+//! mapping rules of docs/concepts.md#generation, with topological existence).
 //!
 //! The rules only prune and propose: a proposed state is accepted only when a verified
 //! witness shows it (P(X) at the witness is the canonical description).
@@ -266,7 +266,7 @@ fn grow_with(
     out.into_iter().collect()
 }
 
-/// The primitive contacts a contact implies (its KLC, DOMAIN.md section 3): those that
+/// The primitive contacts a contact implies (its KLC, docs/concepts.md#ppc-and-klc): those that
 /// hold wherever it holds, in the closure of its contact region. f-e: the edge's ends
 /// on the face and the edge crossing the face's boundary; f-f: the vertices of either
 /// face on the other and the crossings of their boundaries; e-v: the vertex on the

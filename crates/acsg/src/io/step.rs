@@ -22,7 +22,7 @@
 //! plane, ...), curved edges (`CIRCLE`, ...) and solids with voids are refused, naming
 //! the instance (`#id` and type).
 //!
-//! Why not `truck-stepio` (0.3.0, the crate DOMAIN.md names): measured on this 2-core
+//! Why not `truck-stepio` (0.3.0, the crate the survey of dependencies named): measured on this 2-core
 //! machine, a clean build of it with the workspace's profile (dependencies at
 //! opt-level 2) costs about 270 s of CPU (255 s user + 14 s system; 54 s of CPU at
 //! opt-level 0) and about 100 crates (ruststep, truck-geometry, -modeling, -topology,

@@ -17,7 +17,8 @@ pub fn length_scale(fixed: &Part, moving: &Part) -> f64 {
     fixed.bounds().diagonal().max(moving.bounds().diagonal())
 }
 
-/// card(PPC) of a fixed part A and a moving part B, split by type (DOMAIN.md section 8).
+/// card(PPC) of a fixed part A and a moving part B, split by type
+/// (docs/concepts.md#ppc-and-klc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct PpcCount {
     /// |faces A| · |convex vertices B|.

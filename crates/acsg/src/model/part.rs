@@ -10,7 +10,7 @@ use crate::geometry::{Aabb, ConvexPolytope, winding_number};
 pub struct Vertex {
     /// Position in the part's frame.
     pub position: DVec3,
-    /// Whether the solid is locally convex here (DOMAIN.md section 2).
+    /// Whether the solid is locally convex here (docs/concepts.md#elements).
     pub convex: bool,
     /// Incident edges, sorted.
     pub edges: Vec<EdgeId>,
@@ -234,9 +234,9 @@ impl Part {
                 .collect(),
         }
     }
-    /// Whether an element is convex: an edge or a vertex as classified (DOMAIN.md
-    /// section 2); a face always, since a contact's degeneracy and stability depend on
-    /// its edges and vertices only.
+    /// Whether an element is convex: an edge or a vertex as classified
+    /// (docs/concepts.md#elements); a face always, since a contact's degeneracy and
+    /// stability depend on its edges and vertices only.
     #[must_use]
     pub fn is_convex(&self, e: ElementId) -> bool {
         match e {

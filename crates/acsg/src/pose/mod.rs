@@ -1,4 +1,4 @@
-//! Poses of the moving part and bounds on them (DOMAIN.md section 5).
+//! Poses of the moving part and bounds on them (docs/concepts.md#poses-and-bounds).
 //!
 //! A pose is `X = (x, y, z, rx, ry, rz)`, angles in radians. A point `p` of the moving
 //! part B maps into the frame of the fixed part A as
