@@ -210,49 +210,35 @@ fn is_ident_byte(b: u8) -> bool {
     b.is_ascii_alphanumeric() || b == b'_'
 }
 
-/// Whether the word at `i` starts an identifier (not inside a longer one).
-fn word_starts(code: &str, i: usize) -> bool {
-    i == 0 || !is_ident_byte(code.as_bytes()[i - 1])
+/// Where `word` occurs in `code` at the start of a word (not inside a longer one).
+fn word_positions<'a>(code: &'a str, word: &'a str) -> impl Iterator<Item = usize> + 'a {
+    code.match_indices(word)
+        .map(|(i, _)| i)
+        .filter(move |&i| i == 0 || !is_ident_byte(code.as_bytes()[i - 1]))
 }
 
 /// The names of `mod name;` and `mod name { ... }` declarations at any depth.
 fn child_modules(code: &str) -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
-    let mut from = 0;
-    while let Some(k) = code[from..].find("mod ") {
-        let i = from + k;
-        from = i + 4;
-        if !word_starts(code, i) {
-            continue;
-        }
-        let name: String = code[i + 4..]
-            .trim_start()
-            .chars()
-            .take_while(|&c| c.is_ascii_alphanumeric() || c == '_')
-            .collect();
-        if !name.is_empty() {
-            out.insert(name);
-        }
-    }
-    out
+    word_positions(code, "mod ")
+        .map(|i| {
+            code[i + 4..]
+                .trim_start()
+                .chars()
+                .take_while(|&c| c.is_ascii_alphanumeric() || c == '_')
+                .collect::<String>()
+        })
+        .filter(|name| !name.is_empty())
+        .collect()
 }
 
 /// The trees of every `use` declaration: the text between `use` and `;`.
 fn use_trees(code: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut from = 0;
-    while let Some(k) = code[from..].find("use ") {
-        let i = from + k;
-        from = i + 4;
-        if !word_starts(code, i) {
-            continue;
-        }
-        if let Some(end) = code[i..].find(';') {
-            out.push(code[i + 4..i + end].split_whitespace().collect::<Vec<_>>().join(" "));
-            from = i + end;
-        }
-    }
-    out
+    word_positions(code, "use ")
+        .filter_map(|i| {
+            let end = code[i..].find(';')?;
+            Some(code[i + 4..i + end].split_whitespace().collect::<Vec<_>>().join(" "))
+        })
+        .collect()
 }
 
 /// A use tree (`a::{b, c::{d as e, self}}`) as (name brought in, path) pairs; globs
@@ -369,13 +355,8 @@ fn named_paths(here: &ModPath, module: &Module) -> Vec<ModPath> {
     let mut out: Vec<ModPath> = module.imports.values().cloned().collect();
     let code = &module.code;
     for start in ["crate::", "super::", "self::"] {
-        let mut from = 0;
-        while let Some(k) = code[from..].find(start) {
-            let i = from + k;
-            from = i + start.len();
-            if !word_starts(code, i) || code[..i].ends_with('$') {
-                continue;
-            }
+        // `$crate::` belongs to a macro's expansion, not to this module.
+        for i in word_positions(code, start).filter(|&i| !code[..i].ends_with('$')) {
             let text: String = code[i..]
                 .chars()
                 .take_while(|&c| c.is_ascii_alphanumeric() || c == '_' || c == ':')

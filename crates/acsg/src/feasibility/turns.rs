@@ -14,6 +14,7 @@ use glam::DVec3;
 use super::Problem;
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
+use crate::geometry::Aabb;
 use crate::model::{ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, MIN_TILT, ROTATION_PROBE, SEPARATION_REL, scaled};
@@ -406,14 +407,8 @@ impl Problem<'_> {
 
 /// The diagonal of a face's bounding box.
 fn diameter(part: &Part, f: FaceId) -> f64 {
-    let points: Vec<DVec3> = part
-        .closure_vertices(ElementId::Face(f))
-        .iter()
-        .map(|&v| part.vertex(v).position)
-        .collect();
-    let lo = points.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-    let hi = points.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
-    lo.distance(hi)
+    let corners = part.closure_vertices(ElementId::Face(f));
+    Aabb::around(corners.iter().map(|&v| part.vertex(v).position)).diagonal()
 }
 
 #[cfg(test)]
