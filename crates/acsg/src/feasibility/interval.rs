@@ -112,8 +112,9 @@ fn mat_mul(a: &IntervalMat, b: &IntervalMat) -> IntervalMat {
     out
 }
 
-/// Enclosure of R = Rz(rz) Ry(ry) Rx(rx) over the bounds' angle box.
-pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
+/// Enclosures of the elementary rotations `[Rx(rx), Ry(ry), Rz(rz)]` over the
+/// bounds' angle box.
+pub(crate) fn axis_rotations(bounds: &Bounds) -> [IntervalMat; 3] {
     let angle = |lo: f64, hi: f64| Interval::new(lo, hi);
     let (x, y, z) = (
         angle(bounds.min.rx, bounds.max.rx),
@@ -136,6 +137,18 @@ pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
         [z.sin(), z.cos(), zero],
         [zero, zero, one],
     ];
+    [rx, ry, rz]
+}
+
+/// The product of interval matrices, left to right.
+pub(crate) fn product(factors: &[IntervalMat]) -> IntervalMat {
+    let identity = std::array::from_fn(|i| std::array::from_fn(|j| Interval::point(if i == j { 1.0 } else { 0.0 })));
+    factors.iter().fold(identity, |acc, f| mat_mul(&acc, f))
+}
+
+/// Enclosure of R = Rz(rz) Ry(ry) Rx(rx) over the bounds' angle box.
+pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
+    let [rx, ry, rz] = axis_rotations(bounds);
     mat_mul(&mat_mul(&rz, &ry), &rx)
 }
 

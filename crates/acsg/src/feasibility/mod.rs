@@ -22,6 +22,8 @@ mod interval;
 mod lp;
 mod prover;
 mod residual;
+#[cfg(test)]
+mod scratch;
 mod slide;
 mod solver;
 mod turns;

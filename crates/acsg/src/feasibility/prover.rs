@@ -23,7 +23,7 @@ mod linearised;
 
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
-use crate::model::{ElementId, FaceId, Part, VertexId};
+use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use crate::pose::Bounds;
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 
@@ -53,6 +53,21 @@ enum Link {
 pub(crate) struct Links {
     links: Vec<Link>,
     apart: Vec<Apart>,
+    straddles: Vec<Straddle>,
+}
+
+/// A segment of one part that crosses a plane of the other through the contact: an
+/// edge crossing another edge meets every plane through the other's line at the
+/// crossing point, so its ends lie on both sides of each such plane (or on it). The
+/// crossing row alone says only that the two lines meet somewhere, which near-parallel
+/// edges nearly always do.
+#[derive(Clone, Copy, Debug)]
+struct Straddle {
+    /// Whether the segment is the moving part's (in its frame; the plane the fixed
+    /// part's, in G's frame), or the other way round.
+    moving: bool,
+    ends: [DVec3; 2],
+    plane: (DVec3, f64),
 }
 
 /// A face and a vertex of the other part that a witness of the target keeps apart:
@@ -79,6 +94,29 @@ struct EdgePoint {
     edge: usize,
     point: DVec3,
     piece: usize,
+}
+
+/// What a box's rotations make of the parts, once per box (intervals over the box).
+struct Turned {
+    /// The rotation's enclosure.
+    r: IntervalMat,
+    /// The contacts' constraints on the translation.
+    constraints: Vec<Linear>,
+    /// `R w` for every vertex of the moving part.
+    moved: Vec<IVec>,
+    /// `R m` for every face normal of the moving part.
+    normals: Vec<IVec>,
+    /// The moving part's pieces' planes, turned.
+    pieces: Vec<Vec<(IVec, f64)>>,
+    /// The moving part's piece boxes, turned.
+    boxes: Vec<(DVec3, DVec3)>,
+}
+
+/// The points that non-penetration keeps out of pieces in one box: the moving part's
+/// turned (`R w`) and the fixed part's, each with the other part's piece.
+struct PairsInReach {
+    moving: Vec<(IVec, usize)>,
+    fixed: Vec<(DVec3, usize)>,
 }
 
 /// One part's geometry as the prover uses it (the fixed part in G's frame).
@@ -247,7 +285,55 @@ impl<'a> Prover<'a> {
                 }
             }
         }
-        Some(Links { links, apart })
+        Some(Links {
+            links,
+            apart,
+            straddles: self.straddles(target),
+        })
+    }
+
+    /// The [`Straddle`]s of a state's contacts along edges: for an edge–edge contact,
+    /// each edge's ends across two perpendicular planes through the other edge's line;
+    /// for a vertex on an edge, the edge's ends across the three planes through the
+    /// vertex normal to the vertex's part's axes.
+    fn straddles(&self, target: &[PrincipalContact]) -> Vec<Straddle> {
+        let mut out = Vec::new();
+        let ends = |fixed: bool, x: EdgeId| {
+            let (part, shape) = if fixed {
+                (self.fixed, &self.a)
+            } else {
+                (self.moving, &self.b)
+            };
+            part.edge(x).vertices.map(|v| shape.vertices[v.index()])
+        };
+        let mut across = |moving: bool, ends: [DVec3; 2], at: DVec3, normals: &[DVec3]| {
+            for &n in normals {
+                out.push(Straddle {
+                    moving,
+                    ends,
+                    plane: (n, n.dot(at)),
+                });
+            }
+        };
+        for pc in target {
+            match (pc.kind, pc.fixed, pc.moving) {
+                (ContactKind::EdgeEdge, ElementId::Edge(x), ElementId::Edge(y)) => {
+                    let (a, b) = (ends(true, x), ends(false, y));
+                    for (moving, line, ends) in [(true, a, b), (false, b, a)] {
+                        let (u, v) = (line[1] - line[0]).normalize().any_orthonormal_pair();
+                        across(moving, ends, line[0], &[u, v]);
+                    }
+                }
+                (ContactKind::EdgeVertex, ElementId::Edge(x), ElementId::Vertex(v)) => {
+                    across(false, ends(true, x), self.b.vertices[v.index()], &DVec3::AXES);
+                }
+                (ContactKind::VertexEdge, ElementId::Vertex(v), ElementId::Edge(y)) => {
+                    across(true, ends(false, y), self.a.vertices[v.index()], &DVec3::AXES);
+                }
+                _ => {}
+            }
+        }
+        out
     }
 
     fn link_list(&self, target: &[PrincipalContact]) -> Option<Vec<Link>> {
@@ -394,38 +480,40 @@ impl<'a> Prover<'a> {
         (weight(k) > self.slack).then_some(k)
     }
 
+    /// Interval propagation over one box: the translation narrowed by the contacts,
+    /// the pairs kept apart and non-penetration, round by round until it settles.
     fn contract(&self, links: &Links, bounds: &Bounds) -> Option<Bounds> {
-        let Links { links, apart } = links;
-        let r = rotation_enclosure(bounds);
         let mut t = [
             Interval::new(bounds.min.x, bounds.max.x),
             Interval::new(bounds.min.y, bounds.max.y),
             Interval::new(bounds.min.z, bounds.max.z),
         ];
-        let s = self.slack;
-        // Everything that depends on the rotation only, once per box.
-        let constraints: Vec<Linear> = links.iter().flat_map(|link| self.linear(link, &r)).collect();
-        let moved: Vec<IVec> = self.b.vertices.iter().map(|&w| mat_vec(&r, w)).collect();
-        let normals: Vec<IVec> = self.b.planes.iter().map(|&(m, _)| mat_vec(&r, m)).collect();
-        let turned_pieces: Vec<Vec<(IVec, f64)>> = self
-            .b
-            .pieces
-            .iter()
-            .map(|piece| piece.iter().map(|&(m, e)| (mat_vec(&r, m), e)).collect())
-            .collect();
-        for &c in &constraints {
+        let turned = self.turned(links, bounds);
+        for &c in &turned.constraints {
             narrow(c, &mut t)?;
         }
-        // Only the (vertex, piece) pairs whose boxes meet can ever constrain `t` (it
-        // only shrinks): a vertex outside a piece's box is outside the piece.
-        let meets = |p: IVec, (lo, hi): (DVec3, DVec3)| (0..3).all(|k| p[k].hi >= lo[k] - s && p[k].lo <= hi[k] + s);
-        let fixed_boxes = &self.a.piece_boxes;
-        let moving_vs_fixed: Vec<(usize, usize)> = (0..moved.len())
-            .flat_map(|i| (0..fixed_boxes.len()).map(move |j| (i, j)))
-            .filter(|&(i, j)| meets(add(moved[i], t), fixed_boxes[j]))
-            .collect();
+        let pairs = self.pairs_in_reach(&turned, bounds, &t);
+        for _round in 0..6 {
+            let before = t;
+            for &c in &turned.constraints {
+                narrow(c, &mut t)?;
+            }
+            self.keep_apart(&links.apart, &turned.r, &turned.moved, &turned.normals, &mut t)?;
+            self.keep_out_of_pieces(&turned, &pairs, &mut t)?;
+            let shrink: f64 = (0..3).map(|k| before[k].width() - t[k].width()).fold(0.0, f64::max);
+            if shrink <= 1e-3 * (0..3).map(|k| t[k].width()).fold(self.slack, f64::max) {
+                break;
+            }
+        }
+        Some(with_translation(bounds, &t))
+    }
+
+    /// Everything of a box that depends on its rotations only.
+    fn turned(&self, links: &Links, bounds: &Bounds) -> Turned {
+        let r = rotation_enclosure(bounds);
+        let moved: Vec<IVec> = self.b.vertices.iter().map(|&w| mat_vec(&r, w)).collect();
         // The moving part's piece boxes turned by the rotation enclosure.
-        let turned_boxes: Vec<(DVec3, DVec3)> = self
+        let turned_boxes = self
             .b
             .piece_boxes
             .iter()
@@ -437,69 +525,82 @@ impl<'a> Prover<'a> {
                 )
             })
             .collect();
-        let fixed_vs_moving: Vec<(usize, usize)> = (0..self.a.vertices.len())
-            .flat_map(|i| (0..turned_boxes.len()).map(move |j| (i, j)))
-            .filter(|&(i, j)| meets(sub(point(self.a.vertices[i]), t), turned_boxes[j]))
-            .collect();
-        // Points of edges that pass through a piece of the other part at the box's
-        // centre: kept out of it like the vertices (two pieces can cross with no
-        // vertex of either inside the other).
-        let through = self.edges_through(&bounds.center());
-        let moved_through: Vec<(IVec, usize)> =
-            through.moving.iter().map(|p| (mat_vec(&r, p.point), p.piece)).collect();
-        for _round in 0..6 {
-            let before = t;
-            for &c in &constraints {
-                narrow(c, &mut t)?;
-            }
-            self.keep_apart(apart, &r, &moved, &normals, &mut t)?;
-            // No vertex of the moving part strictly inside a convex piece of the fixed.
-            let moving_points = moving_vs_fixed
+        Turned {
+            constraints: links.links.iter().flat_map(|link| self.linear(link, &r)).collect(),
+            normals: self.b.planes.iter().map(|&(m, _)| mat_vec(&r, m)).collect(),
+            pieces: self
+                .b
+                .pieces
                 .iter()
-                .map(|&(i, j)| (moved[i], j))
-                .chain(moved_through.iter().copied());
-            for (w, j) in moving_points {
-                let p = add(w, t);
-                outside_some(
-                    self.a.pieces[j].iter().map(|&(n, d)| (point(n), d)),
-                    |(coeffs, d)| {
-                        let value = dot(coeffs, p);
-                        let bound = Linear {
-                            coeffs,
-                            range: Interval::new(d - s - dot(coeffs, w).hi, f64::INFINITY),
-                        };
-                        (value, d - s, bound)
-                    },
-                    &mut t,
-                )?;
-            }
-            // No vertex of the fixed part strictly inside a convex piece of the moving.
-            let fixed_points = fixed_vs_moving
-                .iter()
-                .map(|&(i, j)| (self.a.vertices[i], j))
-                .chain(through.fixed.iter().map(|p| (p.point, p.piece)));
-            for (a, j) in fixed_points {
-                let q = sub(point(a), t);
-                outside_some(
-                    turned_pieces[j].iter().copied(),
-                    |(u, e)| {
-                        // (R m) · (a − t) ≥ e − s  ⇔  u · t ≤ u · a − e + s
-                        let value = dot(u, q);
-                        let bound = Linear {
-                            coeffs: u,
-                            range: Interval::new(f64::NEG_INFINITY, dot(u, point(a)).hi - e + s),
-                        };
-                        (value, e - s, bound)
-                    },
-                    &mut t,
-                )?;
-            }
-            let shrink: f64 = (0..3).map(|k| before[k].width() - t[k].width()).fold(0.0, f64::max);
-            if shrink <= 1e-3 * (0..3).map(|k| t[k].width()).fold(s, f64::max) {
-                break;
-            }
+                .map(|piece| piece.iter().map(|&(m, e)| (mat_vec(&r, m), e)).collect())
+                .collect(),
+            boxes: turned_boxes,
+            moved,
+            r,
         }
-        Some(with_translation(bounds, &t))
+    }
+
+    /// The (vertex, piece) pairs whose boxes meet once the contacts narrowed `t` (only
+    /// those can ever constrain it, as it only shrinks: a vertex outside a piece's box is
+    /// outside the piece), and the points of edges that pass through a piece of the
+    /// other part at the box's centre, kept out of it like the vertices (two pieces can
+    /// cross with no vertex of either inside the other).
+    fn pairs_in_reach(&self, turned: &Turned, bounds: &Bounds, t: &IVec) -> PairsInReach {
+        let s = self.slack;
+        let meets = |p: IVec, (lo, hi): (DVec3, DVec3)| (0..3).all(|k| p[k].hi >= lo[k] - s && p[k].lo <= hi[k] + s);
+        let fixed_boxes = &self.a.piece_boxes;
+        let mut moving: Vec<(IVec, usize)> = (0..turned.moved.len())
+            .flat_map(|i| (0..fixed_boxes.len()).map(move |j| (i, j)))
+            .filter(|&(i, j)| meets(add(turned.moved[i], *t), fixed_boxes[j]))
+            .map(|(i, j)| (turned.moved[i], j))
+            .collect();
+        let mut fixed: Vec<(DVec3, usize)> = (0..self.a.vertices.len())
+            .flat_map(|i| (0..turned.boxes.len()).map(move |j| (i, j)))
+            .filter(|&(i, j)| meets(sub(point(self.a.vertices[i]), *t), turned.boxes[j]))
+            .map(|(i, j)| (self.a.vertices[i], j))
+            .collect();
+        let through = self.edges_through(&bounds.center());
+        moving.extend(through.moving.iter().map(|p| (mat_vec(&turned.r, p.point), p.piece)));
+        fixed.extend(through.fixed.iter().map(|p| (p.point, p.piece)));
+        PairsInReach { moving, fixed }
+    }
+
+    /// Narrows `t` so that no point of one part (of the pairs in reach) lies strictly
+    /// inside a convex piece of the other.
+    fn keep_out_of_pieces(&self, turned: &Turned, pairs: &PairsInReach, t: &mut IVec) -> Option<()> {
+        let s = self.slack;
+        for &(w, j) in &pairs.moving {
+            let p = add(w, *t);
+            outside_some(
+                self.a.pieces[j].iter().map(|&(n, d)| (point(n), d)),
+                |(coeffs, d)| {
+                    let value = dot(coeffs, p);
+                    let bound = Linear {
+                        coeffs,
+                        range: Interval::new(d - s - dot(coeffs, w).hi, f64::INFINITY),
+                    };
+                    (value, d - s, bound)
+                },
+                t,
+            )?;
+        }
+        for &(a, j) in &pairs.fixed {
+            let q = sub(point(a), *t);
+            outside_some(
+                turned.pieces[j].iter().copied(),
+                |(u, e)| {
+                    // (R m) · (a − t) ≥ e − s  ⇔  u · t ≤ u · a − e + s
+                    let value = dot(u, q);
+                    let bound = Linear {
+                        coeffs: u,
+                        range: Interval::new(f64::NEG_INFINITY, dot(u, point(a)).hi - e + s),
+                    };
+                    (value, e - s, bound)
+                },
+                t,
+            )?;
+        }
+        Some(())
     }
 
     /// Points of edges that pass through a convex piece of the other part at a pose
@@ -859,13 +960,69 @@ mod tests {
 
     /// A box as OFF text.
     fn bar(lo: [f64; 3], hi: [f64; 3]) -> Part {
+        let size = DVec3::from(hi) - DVec3::from(lo);
+        prism(
+            DVec3::from(lo),
+            [DVec3::X * size.x, DVec3::Y * size.y, DVec3::Z * size.z],
+        )
+    }
+
+    /// A parallelepiped with a corner at `o` and sides `s` (a right-handed frame).
+    fn prism(o: DVec3, s: [DVec3; 3]) -> Part {
         let mut off = String::from("OFF\n8 6 0\n");
         for c in 0..8 {
-            let pick = |k: usize| if c >> k & 1 == 0 { lo[k] } else { hi[k] };
-            off += &format!("{} {} {}\n", pick(0), pick(1), pick(2));
+            let p = (0..3).fold(o, |p, k| if c >> k & 1 == 0 { p } else { p + s[k] });
+            off += &format!("{} {} {}\n", p.x, p.y, p.z);
         }
         off += "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n";
-        crate::examples::builtin("bar.off", &off)
+        crate::examples::builtin("prism.off", &off)
+    }
+
+    /// A bar of square section standing on its edge: its lowest edge runs from `o`
+    /// along `along` (horizontal), its section 1 wide.
+    fn ridge(o: DVec3, along: DVec3) -> Part {
+        let side = DVec3::Z.cross(along).normalize();
+        let (a, b) = ((side + DVec3::Z) / 2f64.sqrt(), (DVec3::Z - side) / 2f64.sqrt());
+        prism(o, [along, a, b])
+    }
+
+    /// The edge of `part` between the points `p` and `q`.
+    fn edge_between(part: &Part, p: DVec3, q: DVec3) -> ElementId {
+        let at = |v: VertexId, x: DVec3| part.vertex(v).position.distance(x) < 1e-9;
+        let found = part.edges().iter().position(|e| {
+            let [u, v] = e.vertices;
+            (at(u, p) && at(v, q)) || (at(u, q) && at(v, p))
+        });
+        ElementId::Edge(EdgeId(found.expect("no such edge") as u32))
+    }
+
+    #[test]
+    fn edges_whose_lines_cross_beyond_an_end_are_excluded() {
+        // A bar along the diagonal x = y, its top edge from (0, 0, 1) to (10, 10, 1);
+        // a ridge along x = −y, its lowest edge from (0, 0, 1) to (10, −10, 1). Moved by
+        // t = (−8 ± 0.5, 4 ± 0.5, 0), the ridge's line meets the bar's edge's line at
+        // s = (tx + ty) / 2 ≈ −2 along the diagonal: before the edge's start, though
+        // well inside the box around the edge that the interval test uses.
+        use crate::contact::{ContactKind, PrincipalContact};
+        let diagonal = DVec3::new(10.0, 10.0, 0.0);
+        let across = DVec3::new(-0.2, 0.2, 0.0);
+        let fixed = prism(DVec3::ZERO, [diagonal, across, DVec3::Z]);
+        let ridge_start = DVec3::Z;
+        let along = DVec3::new(10.0, -10.0, 0.0);
+        let moving = ridge(ridge_start, along);
+        let target = [PrincipalContact {
+            fixed: edge_between(&fixed, DVec3::Z, DVec3::Z + diagonal),
+            moving: edge_between(&moving, ridge_start, ridge_start + along),
+            kind: ContactKind::EdgeEdge,
+        }];
+        let prover = Prover::new(&fixed, &moving, &DAffine3::IDENTITY, 30.0);
+        let links = prover.links(&target).unwrap();
+        let r = 1e-4;
+        let beyond = Bounds::try_new([-8.5, 3.5, -0.01, -r, -r, -r], [-7.5, 4.5, 0.01, r, r, r]).unwrap();
+        assert!(prover.narrow(&links, &beyond).is_none());
+        // Moved by (4, 6, 0) the lines meet at (5, 5, 1), on both edges: a witness.
+        let across_edges = Bounds::try_new([3.5, 5.5, -0.01, -r, -r, -r], [4.5, 6.5, 0.01, r, r, r]).unwrap();
+        assert!(prover.narrow(&links, &across_edges).is_some());
     }
 
     #[test]
