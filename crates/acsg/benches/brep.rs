@@ -1,8 +1,8 @@
 //! B-rep construction throughput on a finely triangulated part (target: 1 million
 //! triangles a second on one core).
 
+use acsg::examples::{refine_midpoints, triangle_soup};
 use acsg::model::Part;
-use acsg::topology::refine::{refine_midpoints, triangle_soup};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 fn brep_construction(c: &mut Criterion) {

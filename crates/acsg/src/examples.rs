@@ -1,4 +1,5 @@
-//! Built-in example parts, so that the tool runs with no files to find.
+//! Built-in example parts, so that the tool runs with no files to find, and meshes of
+//! known geometry for tests and benchmarks.
 //!
 //! The models are copies of the repository's fixtures (`fixtures/`, made by
 //! `scripts/make_fixtures.py`) kept in the crate (`assets/examples/`, so that the
@@ -7,7 +8,10 @@
 
 use std::path::Path;
 
+use crate::geometry::ConvexPolytope;
+use crate::io::MeshSoup;
 use crate::model::Part;
+use crate::tolerance::{WELD_REL, scaled};
 
 /// The paper's example (its Fig. 4, as modelled in `fixtures/`): an L-shaped block
 /// (fixed, 200 × 100 × 150 mm) and a box (moving, 100 × 80 × 100 mm) that sits in the
@@ -73,7 +77,6 @@ pub fn paper_bounds() -> crate::pose::Bounds {
 /// If `faces` is too small to close the solid (fewer than 4).
 #[must_use]
 pub fn faceted_sphere(faces: usize, radius: f64) -> Part {
-    use crate::convex::ConvexPolytope;
     use glam::DVec3;
     let mut polytope = ConvexPolytope::cuboid(DVec3::splat(-2.0 * radius), DVec3::splat(2.0 * radius));
     let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
@@ -82,10 +85,10 @@ pub fn faceted_sphere(faces: usize, radius: f64) -> Part {
         let r = (1.0 - z * z).sqrt();
         let normal = DVec3::new(r * (golden * i as f64).cos(), r * (golden * i as f64).sin(), z);
         polytope = polytope
-            .clip(normal, radius, 1e-9 * radius)
+            .clip(normal, radius, scaled(WELD_REL, radius))
             .expect("a tangent plane keeps the sphere");
     }
-    let mut soup = crate::io::MeshSoup {
+    let mut soup = MeshSoup {
         polygon_noun: "face",
         ..Default::default()
     };
@@ -95,6 +98,58 @@ pub fn faceted_sphere(faces: usize, radius: f64) -> Part {
         soup.polygons.push((start..start + face.points.len() as u32).collect());
     }
     Part::try_new(&soup, "faceted sphere").expect("a closed convex solid")
+}
+
+/// The part's faces as a triangle soup over its vertices (outward winding): with
+/// [`refine_midpoints`], large meshes of known geometry for tests and benchmarks.
+#[must_use]
+pub fn triangle_soup(part: &Part) -> MeshSoup {
+    MeshSoup {
+        positions: part.vertices().iter().map(|v| v.position).collect(),
+        polygons: part
+            .faces()
+            .iter()
+            .flat_map(|f| f.triangles.iter().map(|t| t.map(|v| v.0).to_vec()))
+            .collect(),
+        polygon_lines: Vec::new(),
+        polygon_noun: "triangle",
+    }
+}
+
+/// Splits every triangle into four at its edge midpoints. Midpoints are shared between
+/// neighbouring triangles, so a closed mesh stays closed (no T-junctions).
+///
+/// ```
+/// let (l_block, _) = acsg::examples::l_block_and_box();
+/// let soup = acsg::examples::triangle_soup(&l_block);
+/// let fine = acsg::examples::refine_midpoints(&soup);
+/// assert_eq!(fine.polygons.len(), 4 * soup.polygons.len());
+/// ```
+///
+/// # Panics
+/// If a polygon is not a triangle.
+#[must_use]
+pub fn refine_midpoints(soup: &MeshSoup) -> MeshSoup {
+    let mut positions = soup.positions.clone();
+    let mut midpoints: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
+    let mut polygons = Vec::with_capacity(soup.polygons.len() * 4);
+    for poly in &soup.polygons {
+        let [a, b, c] = <[u32; 3]>::try_from(poly.as_slice()).expect("a triangle soup");
+        let mut mid = |p: u32, q: u32| {
+            *midpoints.entry((p.min(q), p.max(q))).or_insert_with(|| {
+                positions.push((positions[p as usize] + positions[q as usize]) * 0.5);
+                (positions.len() - 1) as u32
+            })
+        };
+        let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+        polygons.extend([vec![a, ab, ca], vec![ab, b, bc], vec![ca, bc, c], vec![ab, bc, ca]]);
+    }
+    MeshSoup {
+        positions,
+        polygon_lines: Vec::new(),
+        polygons,
+        polygon_noun: "triangle",
+    }
 }
 
 #[cfg(test)]

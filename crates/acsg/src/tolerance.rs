@@ -1,7 +1,7 @@
 //! The one tolerance policy of the crate.
 //!
 //! Every geometric comparison is made against a length scale `L`, the larger
-//! bounding-box diagonal of the parts involved (DOMAIN.md section 7), times one of the
+//! bounding-box diagonal of the parts involved (docs/concepts.md#tolerances), times one of the
 //! named relative constants below. Nothing else in the crate invents an epsilon.
 
 /// A listed contact holds when its elements are this close, relative to `L`.
@@ -40,9 +40,9 @@ pub fn near(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
 }
 
-/// Asserts that two floating-point values (or iterables of them, element-wise)
-/// are within an absolute tolerance, printing both on failure.
-#[macro_export]
+/// Asserts that two floating-point values are within an absolute tolerance, printing
+/// both on failure (the crate's own tests; not exported).
+#[cfg(test)]
 macro_rules! assert_near {
     ($a:expr, $b:expr, $tol:expr $(,)?) => {{
         let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
@@ -55,6 +55,8 @@ macro_rules! assert_near {
         );
     }};
 }
+#[cfg(test)]
+pub(crate) use assert_near;
 
 /// Largest deviation `max |RᵀR − I|` accepted for the rotation part of a rigid
 /// transform (dimensionless; admits matrices written with ~7 significant digits).
@@ -74,3 +76,72 @@ pub const GAP_SEARCH_REL: f64 = 1e-2;
 /// the arithmetic of the contact tests; farther out, states appear and vanish by
 /// rounding (a cube 1e12 from the origin gave 54 states instead of 7).
 pub const OFFSET_REL: f64 = 1e4;
+
+/// Round-off allowed in a dimensionless quantity computed in a few operations: a dot
+/// or cross product of unit vectors, a ratio of two lengths, an angle in radians. An
+/// edge leaving a vertex runs on the inner side of a face's plane when its direction's
+/// dot product with the face's normal is at most this; two lines are parallel when
+/// their directions' cross product is below it.
+pub const ROUNDOFF_REL: f64 = 1e-12;
+
+/// A unit axis and a unit direction whose dot product is smaller than this in
+/// magnitude are perpendicular (dimensionless): moving along the direction does not
+/// move along the axis.
+pub const ORTHOGONAL_DOT: f64 = 1e-15;
+
+/// A face's triangles may miss its area by this fraction before the triangulation is
+/// reported as failed (its loops intersect or touch).
+pub const TRIANGULATION_REL: f64 = 1e-6;
+
+/// Forward-difference step of the local solver: this times `L` for the translations,
+/// this many radians for the rotations.
+pub const DIFFERENCE_STEP_REL: f64 = 1e-7;
+
+/// A local solve has converged when the root of its sum of squared residuals is below
+/// this times `L` (two orders below the contact tolerance, so that a polished witness
+/// holds its contacts with room to spare).
+pub const SOLVED_REL: f64 = 1e-11;
+
+/// A pose component within this fraction of its range (or of its difference step) of
+/// a bound is on that bound.
+pub const AT_BOUND_REL: f64 = 1e-12;
+
+/// The Levenberg–Marquardt damping adds at least this fraction of the largest diagonal
+/// entry, so that a zero column (a component no residual depends on) cannot make the
+/// system singular.
+pub const DAMPING_FLOOR_REL: f64 = 1e-9;
+
+/// A magnitude below this is zero: a pivot that makes a linear system singular, a
+/// normal too short to normalise.
+pub const NEGLIGIBLE: f64 = 1e-300;
+
+/// Slack on the half turn for angles given in radians, so that `3.1415927` (π rounded
+/// up in the 8th digit) still reads as a half turn.
+pub const RADIAN_SLACK: f64 = 1e-6;
+
+/// The half-size of the first box around a witness that a search below a known state
+/// examines (translations relative to `L`, angles in radians).
+pub const NEAR_REL: f64 = 1e-4;
+
+/// Counting the degrees of freedom a state leaves: an entry of the (normalised)
+/// contact-normal matrix below this counts as 0 in the rank.
+pub const RANK_REL: f64 = 1e-7;
+
+/// The smallest tilt, in radians, a contact's direction is allowed off its plane.
+pub const MIN_TILT: f64 = 1e-9;
+
+/// Step, in radians, of the central differences that measure how fast a rotation
+/// condition changes along each angle.
+pub const ROTATION_PROBE: f64 = 1e-6;
+
+/// Edges of a CAD loop join head to tail when their ends are this close, relative to
+/// the size of the coordinates (STEP and IGES).
+pub const JOIN_REL: f64 = 1e-7;
+
+/// The smallest size (millimetres) a CAD reader scales its tolerances by, so that a
+/// model whose points all coincide still gets a positive tolerance.
+pub const SIZE_FLOOR: f64 = 1e-9;
+
+/// Consecutive points of a CAD loop closer than this fraction of the coplanarity
+/// tolerance are one point.
+pub const DUPLICATE_FRACTION: f64 = 1e-3;

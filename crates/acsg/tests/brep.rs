@@ -3,8 +3,20 @@
 
 use std::path::PathBuf;
 
-use acsg::assert_near;
 use acsg::model::{Part, ppc_count};
+
+/// Asserts that two numbers are within `tol` of each other, printing both if not.
+macro_rules! assert_near {
+    ($a:expr, $b:expr, $tol:expr $(,)?) => {{
+        let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
+        assert!(
+            acsg::tolerance::near(a, b, tol),
+            "{} = {a}, {} = {b}: more than {tol} apart",
+            stringify!($a),
+            stringify!($b)
+        );
+    }};
+}
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -174,14 +186,14 @@ fn convex_pieces_are_exact() {
                 assert!(piece.outside_distance(v) <= 1e-9 * part.bounds().diagonal());
             }
             // Inside the part: the centre has winding number 1.
-            assert_near!(acsg::convex::winding_number(&part, piece.center()), 1.0, 1e-9);
+            assert_near!(part.winding_number(piece.center()), 1.0, 1e-9);
         }
     }
 }
 
 #[test]
 fn each_bad_fixture_reports_its_defect_class() {
-    use acsg::model::{DefectKind, ModelError};
+    use acsg::load::{DefectKind, ModelError};
     for (name, kind) in [
         ("bad/open_box.off", DefectKind::NotClosed),
         ("bad/nonmanifold.off", DefectKind::NotManifold),
@@ -225,12 +237,12 @@ fn each_bad_fixture_reports_its_defect_class() {
 #[test]
 fn a_gap_anywhere_in_a_fine_mesh_is_reported_with_its_place() {
     let part = load("l_block.stl");
-    let mut soup = acsg::topology::refine::triangle_soup(&part);
-    soup = acsg::topology::refine::refine_midpoints(&soup);
+    let mut soup = acsg::examples::triangle_soup(&part);
+    soup = acsg::examples::refine_midpoints(&soup);
     let removed = soup.polygons.remove(17);
     let err = Part::try_new(&soup, "holey").expect_err("a gap");
     let report = err.report().expect("a validation report");
-    assert!(report.has(acsg::model::DefectKind::NotClosed));
+    assert!(report.has(acsg::load::DefectKind::NotClosed));
     // The three edges of the removed triangle are the gap.
     assert_eq!(report.defects().len(), 3);
     let corner = soup.positions[removed[0] as usize];

@@ -110,7 +110,7 @@ fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_touching
     for &[a, b] in &graph.edges {
         let (small, large) = (&graph.states[a], &graph.states[b]);
         if a == 0 {
-            // Neighbours are states whose regions touch (DOMAIN.md section 4): next to
+            // Neighbours are states whose regions touch (docs/concepts.md#the-graph): next to
             // the state's witness some pose is free (the parts apart, clean).
             let witness = large.witness.unwrap().to_array();
             let mut rng = 0x5EED_u64 ^ b as u64;
@@ -226,7 +226,7 @@ fn the_same_parts_give_the_same_states_whatever_the_file() {
     let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
     let block = Part::from_path(&fixtures.join("block_with_hole.off")).unwrap();
     let peg = Part::from_path(&fixtures.join("peg.off")).unwrap();
-    let scale = block.bounds().diagonal().max(peg.bounds().diagonal());
+    let scale = acsg::model::length_scale(&block, &peg);
     // The OFF text with a change to its vertex lines or its face lines.
     let text = std::fs::read_to_string(fixtures.join("peg.off")).unwrap();
     let lines: Vec<&str> = text.lines().collect();

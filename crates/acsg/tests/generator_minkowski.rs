@@ -1,4 +1,4 @@
-//! The generator against an independent truth (DOMAIN.md section 8): with translation
+//! The generator against an independent truth (docs/concepts.md#ground-truth): with translation
 //! only and two convex parts, B placed at translation t (p_A = p_B + t) touches A
 //! exactly when t lies on the boundary of the Minkowski difference
 //! M = A ⊕ (−B) = hull{a − b}, and the contact states in a translation box are exactly
@@ -189,7 +189,7 @@ fn difference_facets(va: &[DVec3], vb: &[DVec3], diff: &[DVec3], tiny: f64) -> V
 }
 
 fn minkowski(a: &Part, b: &Part, gap_rel: f64) -> Option<Minkowski> {
-    let scale = a.bounds().diagonal().max(b.bounds().diagonal());
+    let scale = acsg::model::length_scale(a, b);
     let (tiny, gap) = (1e-9 * scale, gap_rel * scale);
     let va: Vec<DVec3> = a.vertices().iter().map(|v| v.position).collect();
     let vb: Vec<DVec3> = b.vertices().iter().map(|v| v.position).collect();
@@ -458,7 +458,7 @@ fn describe(contacts: &[PrincipalContact]) -> String {
 /// Checks the truth builder on its own, against the contact module: at a translation
 /// inside each face of M (inside the box when the face meets it) the contact state is
 /// the face's single contact with no penetration, and (inside the box) every other
-/// pair of elements is clear as a witness requires (DOMAIN.md section 7); stepping out
+/// pair of elements is clear as a witness requires (docs/concepts.md#tolerances); stepping out
 /// of M along the face's normal cone leaves no contact, stepping in penetrates.
 #[test]
 fn minkowski_faces_predict_the_contact_state() {

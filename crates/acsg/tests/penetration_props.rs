@@ -9,8 +9,8 @@ use std::path::Path;
 use std::sync::OnceLock;
 
 use acsg::contact::ContactScene;
-use acsg::contact::penetration::{convex_separation, penetration};
-use acsg::convex::ConvexPolytope;
+use acsg::contact::{convex_separation, penetration};
+use acsg::geometry::ConvexPolytope;
 use acsg::model::Part;
 use acsg::model::{EdgeId, ElementId, FaceId, VertexId};
 use acsg::tolerance::{CONTACT_REL, GAP_SEARCH_REL};

@@ -1,6 +1,7 @@
-//! Property tests of the pose convention (DOMAIN.md section 5): `p_A = G (R p_B + t)`,
-//! `R = Rz(rz) Ry(ry) Rx(rx)`, checked against quaternions applied one after the other,
-//! plus the round trips affine <-> pose and text <-> pose, and the clamping of bounds.
+//! Property tests of the pose convention (docs/concepts.md#poses-and-bounds):
+//! `p_A = G (R p_B + t)`, `R = Rz(rz) Ry(ry) Rx(rx)`, checked against quaternions applied
+//! one after the other, plus the round trips affine <-> pose and text <-> pose, and the
+//! clamping of bounds.
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 

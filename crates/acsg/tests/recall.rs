@@ -1,4 +1,4 @@
-//! Recall of the generator against an independent oracle (DOMAIN.md section 8,
+//! Recall of the generator against an independent oracle (docs/concepts.md#ground-truth,
 //! "Rotation slices"): on fixed rotations the contact translations are the boundary of
 //! a union of Minkowski differences of convex pieces, built exactly in test code
 //! (`common::slices`); P(X) at poses sampled there is read by an evaluator of the
@@ -867,7 +867,8 @@ impl PairRun {
             });
             let _ = writeln!(oracle, "{line}");
         }
-        // Witnesses are built to DOMAIN.md's 1e-9 L, not to the oracle's round-off.
+        // Witnesses are built to the 1e-9 L of docs/concepts.md#tolerances, not to the
+        // oracle's round-off.
         let evaluator = Evaluator::with_touch(&self.fixed, &self.moving, CONTACT_REL);
         let mut witnesses = String::new();
         for state in &graph.states[1..] {

@@ -2,9 +2,9 @@
 //! the test (prism counts, reflex corners by cross products, shoelace areas), and its
 //! invariance under re-ordering, re-indexing and refinement of the input mesh.
 
+use acsg::examples::refine_midpoints;
 use acsg::io::MeshSoup;
 use acsg::model::Part;
-use acsg::topology::refine::refine_midpoints;
 use glam::{DMat3, DVec2, DVec3};
 use proptest::prelude::*;
 
@@ -90,7 +90,7 @@ proptest! {
         let tol = 1e-9 * part.bounds().diagonal();
         for piece in pieces {
             prop_assert!(piece.vertices().iter().all(|&v| piece.outside_distance(v) <= tol));
-            let w = acsg::convex::winding_number(&part, piece.center());
+            let w = part.winding_number(piece.center());
             prop_assert!((w - 1.0).abs() < 1e-6, "piece centre has winding number {}", w);
         }
     }
@@ -131,7 +131,7 @@ proptest! {
         prop_assert_eq!(part.edges(), reference.edges());
 
         // Refinement adds coplanar triangles and points on straight edges only.
-        let mut fine = acsg::topology::refine::triangle_soup(&reference);
+        let mut fine = acsg::examples::triangle_soup(&reference);
         for _ in 0..levels { fine = refine_midpoints(&fine); }
         let refined = Part::try_new(&fine, "refined").expect("valid");
         prop_assert_eq!(refined.faces().len(), reference.faces().len());

@@ -1,91 +1,18 @@
 //! A bounding volume hierarchy over element boxes: the broad phase that makes a part
 //! with thousands of faces cost little more than its near elements.
 
-use glam::{DAffine3, DMat3, DVec3};
+use glam::DAffine3;
 
-/// An axis-aligned box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Bounds3 {
-    /// Smallest corner.
-    pub min: DVec3,
-    /// Largest corner.
-    pub max: DVec3,
-}
-
-impl Bounds3 {
-    /// The box around some points.
-    #[must_use]
-    pub fn around(points: impl IntoIterator<Item = DVec3>) -> Bounds3 {
-        let mut b = Bounds3 {
-            min: DVec3::INFINITY,
-            max: DVec3::NEG_INFINITY,
-        };
-        for p in points {
-            b.min = b.min.min(p);
-            b.max = b.max.max(p);
-        }
-        b
-    }
-
-    /// The smallest box holding both.
-    #[must_use]
-    pub fn union(&self, other: &Bounds3) -> Bounds3 {
-        Bounds3 {
-            min: self.min.min(other.min),
-            max: self.max.max(other.max),
-        }
-    }
-
-    /// This box grown by `r` on every side.
-    #[must_use]
-    pub fn inflated(&self, r: f64) -> Bounds3 {
-        Bounds3 {
-            min: self.min - DVec3::splat(r),
-            max: self.max + DVec3::splat(r),
-        }
-    }
-
-    /// Whether the boxes share a point.
-    #[must_use]
-    pub fn overlaps(&self, other: &Bounds3) -> bool {
-        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
-    }
-
-    /// The distance between the boxes (0 when they overlap).
-    #[must_use]
-    pub fn gap(&self, other: &Bounds3) -> f64 {
-        (self.min - other.max)
-            .max(other.min - self.max)
-            .max(DVec3::ZERO)
-            .length()
-    }
-
-    /// The box around this box mapped by an affine transform.
-    #[must_use]
-    pub fn transformed(&self, t: &DAffine3) -> Bounds3 {
-        let center = t.transform_point3(self.center());
-        let m = t.matrix3;
-        let abs = DMat3::from_cols(m.x_axis.abs(), m.y_axis.abs(), m.z_axis.abs());
-        let half = abs * ((self.max - self.min) * 0.5);
-        Bounds3 {
-            min: center - half,
-            max: center + half,
-        }
-    }
-
-    fn center(&self) -> DVec3 {
-        (self.min + self.max) * 0.5
-    }
-}
+use crate::geometry::Aabb;
 
 #[derive(Clone, Debug)]
 enum Node {
-    Leaf { bounds: Bounds3, item: u32 },
-    Inner { bounds: Bounds3, left: u32, right: u32 },
+    Leaf { bounds: Aabb, item: u32 },
+    Inner { bounds: Aabb, left: u32, right: u32 },
 }
 
 impl Node {
-    fn bounds(&self) -> &Bounds3 {
+    fn bounds(&self) -> &Aabb {
         match self {
             Node::Leaf { bounds, .. } | Node::Inner { bounds, .. } => bounds,
         }
@@ -94,14 +21,14 @@ impl Node {
 
 /// A static hierarchy of boxes, built by median splits along the longest axis.
 #[derive(Clone, Debug, Default)]
-pub struct Bvh {
+pub(crate) struct Bvh {
     nodes: Vec<Node>,
 }
 
 impl Bvh {
     /// Builds the hierarchy over `boxes`; queries report indices into it.
     #[must_use]
-    pub fn new(boxes: &[Bounds3]) -> Bvh {
+    pub(crate) fn new(boxes: &[Aabb]) -> Bvh {
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(2 * boxes.len()),
         };
@@ -112,7 +39,7 @@ impl Bvh {
         bvh
     }
 
-    fn build(&mut self, boxes: &[Bounds3], items: &mut [u32]) -> u32 {
+    fn build(&mut self, boxes: &[Aabb], items: &mut [u32]) -> u32 {
         if let [item] = items {
             self.nodes.push(Node::Leaf {
                 bounds: boxes[*item as usize],
@@ -145,8 +72,10 @@ impl Bvh {
         slot as u32
     }
 
-    /// Calls `visit` with every item whose box overlaps `query`.
-    pub fn query(&self, query: &Bounds3, mut visit: impl FnMut(u32)) {
+    /// Calls `visit` with every item whose box overlaps `query` (the tests check the
+    /// tree's shape through it; the crate itself queries pairs of trees).
+    #[cfg(test)]
+    pub(crate) fn query(&self, query: &Aabb, mut visit: impl FnMut(u32)) {
         if self.nodes.is_empty() {
             return;
         }
@@ -168,7 +97,7 @@ impl Bvh {
     /// Calls `visit(i, j)` for every item `i` of this hierarchy and `j` of `other` whose
     /// boxes overlap once `other`'s are mapped by `t` and grown by `margin`. Only pairs
     /// of nearby subtrees are visited, so the cost follows the near pairs.
-    pub fn query_pairs(&self, other: &Bvh, t: &DAffine3, margin: f64, visit: impl FnMut(u32, u32)) {
+    pub(crate) fn query_pairs(&self, other: &Bvh, t: &DAffine3, margin: f64, visit: impl FnMut(u32, u32)) {
         self.pairs(
             other,
             |_, node: &Node| node.bounds().transformed(t).inflated(margin),
@@ -178,8 +107,8 @@ impl Bvh {
 
     /// [`Bvh::query_pairs`] for traversals that visit most of `other`: its boxes are
     /// mapped once, up front, rather than at every visit.
-    pub fn query_pairs_dense(&self, other: &Bvh, t: &DAffine3, margin: f64, visit: impl FnMut(u32, u32)) {
-        let placed: Vec<Bounds3> = other
+    pub(crate) fn query_pairs_dense(&self, other: &Bvh, t: &DAffine3, margin: f64, visit: impl FnMut(u32, u32)) {
+        let placed: Vec<Aabb> = other
             .nodes
             .iter()
             .map(|n| n.bounds().transformed(t).inflated(margin))
@@ -188,7 +117,7 @@ impl Bvh {
     }
 
     /// The traversal: `placed(j, node)` is `other`'s node `j` in this hierarchy's frame.
-    fn pairs(&self, other: &Bvh, placed_box: impl Fn(u32, &Node) -> Bounds3, mut visit: impl FnMut(u32, u32)) {
+    fn pairs(&self, other: &Bvh, placed_box: impl Fn(u32, &Node) -> Aabb, mut visit: impl FnMut(u32, u32)) {
         if self.nodes.is_empty() || other.nodes.is_empty() {
             return;
         }
@@ -230,6 +159,7 @@ impl Bvh {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     #[test]
     fn queries_match_brute_force() {
@@ -240,10 +170,10 @@ mod tests {
             state ^= state << 17;
             (state % 10_000) as f64 / 100.0
         };
-        let boxes: Vec<Bounds3> = (0..500)
+        let boxes: Vec<Aabb> = (0..500)
             .map(|_| {
                 let p = DVec3::new(rand(), rand(), rand());
-                Bounds3 {
+                Aabb {
                     min: p,
                     max: p + DVec3::new(rand(), rand(), rand()) * 0.05,
                 }
@@ -252,7 +182,7 @@ mod tests {
         let bvh = Bvh::new(&boxes);
         for _ in 0..100 {
             let p = DVec3::new(rand(), rand(), rand());
-            let q = Bounds3 {
+            let q = Aabb {
                 min: p,
                 max: p + DVec3::splat(rand() * 0.2),
             };

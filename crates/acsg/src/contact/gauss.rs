@@ -14,9 +14,10 @@
 
 use glam::{DAffine3, DMat3, DVec3};
 
-use super::bvh::{Bounds3, Bvh};
-use super::penetration::Separation;
-use crate::convex::ConvexPolytope;
+use super::bvh::Bvh;
+use super::separation::Separation;
+use crate::geometry::{Aabb, ConvexPolytope, weld};
+use crate::tolerance::ROUNDOFF_REL;
 
 /// A convex polytope with its vertex adjacency and edge-face incidence.
 #[derive(Clone, Debug)]
@@ -48,7 +49,7 @@ impl GaussHull {
         // vertex it lies on (or to a new index past the vertices: inconsistent faces).
         let corners: Vec<DVec3> = polytope.faces().iter().flat_map(|f| f.points.iter().copied()).collect();
         let all: Vec<DVec3> = vertices.iter().chain(&corners).copied().collect();
-        let (_, ids_of) = crate::topology::weld(&all, eps);
+        let (_, ids_of) = weld(&all, eps);
         let mut corner_ids = ids_of[vertices.len()..].iter().copied();
         let mut faces_of_edge: std::collections::BTreeMap<(u32, u32), Vec<u32>> = Default::default();
         let mut neighbours = vec![Vec::new(); vertices.len()];
@@ -79,7 +80,7 @@ impl GaussHull {
         let normals: Vec<DVec3> = polytope.faces().iter().map(|f| f.normal).collect();
         let mut face_order: Vec<u32> = (0..normals.len() as u32).collect();
         face_order.sort_by_key(|&f| morton(normals[f as usize]));
-        let arc_boxes = |sign: f64| -> Vec<Bounds3> {
+        let arc_boxes = |sign: f64| -> Vec<Aabb> {
             edges
                 .iter()
                 .map(|(_, [f, g])| arc_bounds(normals[*f as usize] * sign, normals[*g as usize] * sign))
@@ -175,9 +176,9 @@ fn morton(n: DVec3) -> u64 {
 }
 
 /// The box around a short great-circle arc from `u` to `v` (unit vectors).
-fn arc_bounds(u: DVec3, v: DVec3) -> Bounds3 {
+fn arc_bounds(u: DVec3, v: DVec3) -> Aabb {
     let half_angle = 0.5 * u.dot(v).clamp(-1.0, 1.0).acos();
-    Bounds3::around([u, v]).inflated(1.0 - half_angle.cos() + 1e-12)
+    Aabb::around([u, v]).inflated(1.0 - half_angle.cos() + ROUNDOFF_REL)
 }
 
 /// Whether arcs (a, b) and (c, d) on the unit sphere cross (Gregorius's test).
@@ -262,8 +263,8 @@ pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>, until_separated: bool) ->
 
 #[cfg(test)]
 mod tests {
+    use super::super::separation::convex_separation;
     use super::*;
-    use crate::contact::penetration::convex_separation;
     use glam::DQuat;
 
     /// A cube trimmed by `cuts` random planes tangent to its inscribed sphere: a convex

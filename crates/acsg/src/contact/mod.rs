@@ -1,5 +1,6 @@
 //! Contact geometry at a pose: which elements touch, the contact state P(X) under the
-//! principal-contact rule (DOMAIN.md section 3), and whether the parts penetrate.
+//! principal-contact rule (docs/concepts.md#principal-contacts), and whether the parts
+//! penetrate.
 //!
 //! ```
 //! use acsg::contact::{ContactKind, ContactScene};
@@ -19,9 +20,9 @@
 
 mod bvh;
 mod gauss;
-pub mod penetration;
+mod penetration;
 mod placed;
-pub mod queries;
+mod separation;
 mod touch;
 
 use std::fmt;
@@ -29,10 +30,13 @@ use std::fmt;
 use glam::{DAffine3, DVec3};
 use serde::{Deserialize, Serialize};
 
-pub use bvh::{Bounds3, Bvh};
+use bvh::Bvh;
+pub use penetration::{PenetrationReport, penetration};
 use placed::PlacedPart;
+pub use separation::{Separation, convex_separation};
 
-use crate::model::{ElementId, Part};
+use crate::geometry::Aabb;
+use crate::model::{ElementId, Part, length_scale};
 use crate::tolerance::{GAP_SEARCH_REL, scaled};
 
 /// The ten kinds of principal contact, the fixed part's element first.
@@ -87,6 +91,26 @@ impl ContactKind {
             ContactKind::VertexVertex => "v-v",
         }
     }
+
+    /// The kind of a contact between element `fixed` of the fixed part and element
+    /// `moving` of the moving part; two edges touching along a segment are e-e-t,
+    /// otherwise e-e. The one place where a pair of elements is told apart by kinds.
+    #[must_use]
+    pub fn of(fixed: ElementId, moving: ElementId, along_segment: bool) -> ContactKind {
+        use ElementId::{Edge, Face, Vertex};
+        match (fixed, moving) {
+            (Face(_), Face(_)) => ContactKind::FaceFace,
+            (Face(_), Edge(_)) => ContactKind::FaceEdge,
+            (Edge(_), Face(_)) => ContactKind::EdgeFace,
+            (Face(_), Vertex(_)) => ContactKind::FaceVertex,
+            (Vertex(_), Face(_)) => ContactKind::VertexFace,
+            (Edge(_), Edge(_)) if along_segment => ContactKind::EdgeEdgeTouch,
+            (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
+            (Edge(_), Vertex(_)) => ContactKind::EdgeVertex,
+            (Vertex(_), Edge(_)) => ContactKind::VertexEdge,
+            (Vertex(_), Vertex(_)) => ContactKind::VertexVertex,
+        }
+    }
 }
 
 impl fmt::Display for ContactKind {
@@ -113,12 +137,12 @@ impl PrincipalContact {
     pub fn degenerate(&self, fixed: &Part, moving: &Part) -> bool {
         use ContactKind::{EdgeEdgeTouch, EdgeVertex, VertexEdge, VertexVertex};
         matches!(self.kind, VertexVertex | EdgeVertex | VertexEdge | EdgeEdgeTouch)
-            && element_convex(fixed, self.fixed)
-            && element_convex(moving, self.moving)
+            && fixed.is_convex(self.fixed)
+            && moving.is_convex(self.moving)
     }
 
-    /// Degrees of freedom left by this contact alone (DOMAIN.md section 3): 5 for
-    /// single-point contacts, 4 for an edge in a face or a vertex in an edge, 3 for
+    /// Degrees of freedom left by this contact alone (docs/concepts.md#degrees-of-freedom):
+    /// 5 for single-point contacts, 4 for an edge in a face or a vertex in an edge, 3 for
     /// face on face or vertex on vertex, 2 for collinear edges.
     #[must_use]
     pub fn dof(&self) -> u8 {
@@ -128,32 +152,6 @@ impl PrincipalContact {
             ContactKind::FaceFace | ContactKind::VertexVertex => 3,
             ContactKind::EdgeEdgeTouch => 2,
         }
-    }
-}
-
-fn element_convex(part: &Part, e: ElementId) -> bool {
-    match e {
-        ElementId::Vertex(v) => part.vertex(v).convex,
-        ElementId::Edge(x) => part.edge(x).convex,
-        ElementId::Face(_) => true,
-    }
-}
-
-/// The kind of a contact between two elements; two edges touching along a segment are
-/// e-e-t, otherwise e-e.
-pub(crate) fn kind_of(a: ElementId, b: ElementId, along_segment: bool) -> ContactKind {
-    use ElementId::{Edge, Face, Vertex};
-    match (a, b) {
-        (Face(_), Face(_)) => ContactKind::FaceFace,
-        (Face(_), Edge(_)) => ContactKind::FaceEdge,
-        (Edge(_), Face(_)) => ContactKind::EdgeFace,
-        (Face(_), Vertex(_)) => ContactKind::FaceVertex,
-        (Vertex(_), Face(_)) => ContactKind::VertexFace,
-        (Edge(_), Edge(_)) if along_segment => ContactKind::EdgeEdgeTouch,
-        (Edge(_), Edge(_)) => ContactKind::EdgeEdge,
-        (Edge(_), Vertex(_)) => ContactKind::EdgeVertex,
-        (Vertex(_), Edge(_)) => ContactKind::VertexEdge,
-        (Vertex(_), Vertex(_)) => ContactKind::VertexVertex,
     }
 }
 
@@ -180,7 +178,7 @@ pub struct ContactScene<'a> {
     moving_local: PlacedPart<'a>,
     moving: &'a Part,
     fixed_elements: Vec<ElementId>,
-    fixed_boxes: Vec<Bounds3>,
+    fixed_boxes: Vec<Aabb>,
     moving_elements: Vec<ElementId>,
     moving_bvh: Bvh,
     fixed_pieces: penetration::PreparedPieces,
@@ -194,13 +192,13 @@ impl<'a> ContactScene<'a> {
     #[must_use]
     pub fn new(fixed: &'a Part, moving: &'a Part) -> ContactScene<'a> {
         let placed = PlacedPart::new(fixed, &DAffine3::IDENTITY);
-        let fixed_elements = placed.elements();
-        let boxes: Vec<Bounds3> = fixed_elements.iter().map(|&e| placed.bounds(e)).collect();
-        let scale = fixed.bounds().diagonal().max(moving.bounds().diagonal());
+        let fixed_elements = fixed.elements();
+        let boxes: Vec<Aabb> = fixed_elements.iter().map(|&e| placed.bounds(e)).collect();
+        let scale = length_scale(fixed, moving);
         let bvh = Bvh::new(&boxes);
         let moving_local = PlacedPart::new(moving, &DAffine3::IDENTITY);
-        let moving_elements = moving_local.elements();
-        let moving_boxes: Vec<Bounds3> = moving_elements.iter().map(|&e| moving_local.bounds(e)).collect();
+        let moving_elements = moving.elements();
+        let moving_boxes: Vec<Aabb> = moving_elements.iter().map(|&e| moving_local.bounds(e)).collect();
         ContactScene {
             fixed: placed,
             moving,
@@ -216,15 +214,16 @@ impl<'a> ContactScene<'a> {
         }
     }
 
-    /// The signed penetration depth on the convex pieces ([`penetration::penetration`]):
+    /// The signed penetration depth on the convex pieces ([`penetration()`]):
     /// positive when the parts penetrate, at most zero otherwise.
     #[must_use]
     pub fn penetration_depth(&self, moving_to_fixed: &DAffine3) -> f64 {
         penetration::penetration_prepared(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed, self.scale).depth
     }
 
-    /// The penetration depth when positive, else 0 ([`penetration::penetration_excess`]):
-    /// the same value as `penetration_depth(..).max(0.0)`, faster.
+    /// The penetration depth when positive, else 0: the same value as
+    /// `penetration_depth(..).max(0.0)`, faster (a pair of pieces is dropped at its first
+    /// separating axis).
     #[must_use]
     pub fn penetration_excess(&self, moving_to_fixed: &DAffine3) -> f64 {
         penetration::penetration_excess(&self.fixed_pieces, &self.moving_pieces, moving_to_fixed)
@@ -232,7 +231,8 @@ impl<'a> ContactScene<'a> {
 
     /// The open intervals of `s` over which the moving part, placed by
     /// `moving_to_fixed` and then translated by `s · direction`, penetrates the fixed
-    /// part by more than `depth` ([`penetration::blocked_along`]).
+    /// part by more than `depth`: one interval per pair of convex pieces that penetrates
+    /// somewhere on the line (unsorted; their union is where the line is blocked).
     #[must_use]
     pub fn blocked_along(&self, moving_to_fixed: &DAffine3, direction: DVec3, depth: f64) -> Vec<(f64, f64)> {
         penetration::blocked_along(
@@ -381,7 +381,7 @@ impl<'a> ContactScene<'a> {
                 PrincipalContact {
                     fixed: a,
                     moving: b,
-                    kind: kind_of(a, b, along_segment),
+                    kind: ContactKind::of(a, b, along_segment),
                 }
             })
             .collect();

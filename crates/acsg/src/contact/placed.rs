@@ -6,8 +6,7 @@ use std::sync::OnceLock;
 
 use glam::{DAffine3, DVec3};
 
-use super::bvh::Bounds3;
-use super::queries::{PlanarRegion, Segment};
+use crate::geometry::{Aabb, PlanarRegion, Segment};
 use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 
 /// A face's loops and triangles as points.
@@ -15,6 +14,17 @@ use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 struct FacePoints {
     loops: Vec<Vec<DVec3>>,
     triangles: Vec<[DVec3; 3]>,
+}
+
+/// A placed element's geometry: a vertex's point, an edge's segment, a face's region.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Shape<'a> {
+    /// A vertex.
+    Point(DVec3),
+    /// An edge.
+    Segment(Segment),
+    /// A face.
+    Region(PlanarRegion<'a>),
 }
 
 /// The geometry of a part's faces, edges and vertices in some frame.
@@ -90,22 +100,25 @@ impl<'a> PlacedPart<'a> {
         }
     }
 
-    /// Every element id, faces first, then edges, then vertices.
-    pub fn elements(&self) -> Vec<ElementId> {
-        let faces = (0..self.part.faces().len() as u32).map(|i| ElementId::Face(FaceId(i)));
-        let edges = (0..self.part.edges().len() as u32).map(|i| ElementId::Edge(EdgeId(i)));
-        let vertices = (0..self.part.vertices().len() as u32).map(|i| ElementId::Vertex(VertexId(i)));
-        faces.chain(edges).chain(vertices).collect()
+    /// An element's geometry: the one place where an element is told apart by kind to
+    /// reach its geometry (the contact and distance tests then match on shapes, a
+    /// pair in either order).
+    pub fn shape(&self, element: ElementId) -> Shape<'_> {
+        match element {
+            ElementId::Vertex(v) => Shape::Point(self.vertex(v)),
+            ElementId::Edge(e) => Shape::Segment(self.segment(e)),
+            ElementId::Face(f) => Shape::Region(self.region(f)),
+        }
     }
 
-    pub fn bounds(&self, element: ElementId) -> Bounds3 {
+    pub fn bounds(&self, element: ElementId) -> Aabb {
         match element {
-            ElementId::Vertex(v) => Bounds3::around([self.vertex(v)]),
+            ElementId::Vertex(v) => Aabb::around([self.vertex(v)]),
             ElementId::Edge(e) => {
                 let s = self.segment(e);
-                Bounds3::around([s.a, s.b])
+                Aabb::around([s.a, s.b])
             }
-            ElementId::Face(f) => Bounds3::around(
+            ElementId::Face(f) => Aabb::around(
                 self.part
                     .face(f)
                     .outer()

@@ -1,5 +1,5 @@
 //! I(a, b) = relint(a) ∩ relint(b) for a pair of placed elements, under a tolerance,
-//! and the principal rule of DOMAIN.md section 3.
+//! and the principal rule of docs/concepts.md#principal-contacts.
 //!
 //! Relative interiors are shrunk by the tolerance `tol`: a point counts as inside an
 //! edge only when it is farther than `tol` from both end points, inside a face only
@@ -12,8 +12,10 @@
 
 use glam::DVec3;
 
-use super::placed::PlacedPart;
-use super::queries::{PlanarRegion, Segment, clip_convex, point_segment, segment_segment};
+use super::placed::{PlacedPart, Shape};
+use crate::geometry::{
+    PlanarRegion, Segment, clip_convex, point_region, point_segment, region_region, segment_region, segment_segment,
+};
 use crate::model::{ElementId, FaceId, Part};
 
 /// The set I(a, b) where two elements touch.
@@ -252,32 +254,14 @@ pub(crate) fn touch(
     b: ElementId,
     tol: f64,
 ) -> Option<TouchSet> {
-    use ElementId::{Edge, Face, Vertex};
-    match (a, b) {
-        (Vertex(va), Vertex(vb)) => {
-            let (p, q) = (fixed.vertex(va), moving.vertex(vb));
-            (p.distance(q) <= tol).then(|| TouchSet::Point((p + q) * 0.5))
-        }
-        (Vertex(va), Edge(eb)) => {
-            let p = fixed.vertex(va);
-            point_in_segment(&moving.segment(eb), p, tol).then_some(TouchSet::Point(p))
-        }
-        (Edge(ea), Vertex(vb)) => {
-            let p = moving.vertex(vb);
-            point_in_segment(&fixed.segment(ea), p, tol).then_some(TouchSet::Point(p))
-        }
-        (Vertex(va), Face(fb)) => {
-            let p = fixed.vertex(va);
-            point_in_face(&moving.region(fb), p, tol).then_some(TouchSet::Point(p))
-        }
-        (Face(fa), Vertex(vb)) => {
-            let p = moving.vertex(vb);
-            point_in_face(&fixed.region(fa), p, tol).then_some(TouchSet::Point(p))
-        }
-        (Edge(ea), Edge(eb)) => edge_edge(&fixed.segment(ea), &moving.segment(eb), tol),
-        (Edge(ea), Face(fb)) => edge_face(&fixed.segment(ea), &moving.region(fb), tol),
-        (Face(fa), Edge(eb)) => edge_face(&moving.segment(eb), &fixed.region(fa), tol),
-        (Face(fa), Face(fb)) => face_face(&fixed.region(fa), &moving.region(fb), tol),
+    use Shape::{Point, Region, Segment};
+    match (fixed.shape(a), moving.shape(b)) {
+        (Point(p), Point(q)) => (p.distance(q) <= tol).then(|| TouchSet::Point((p + q) * 0.5)),
+        (Point(p), Segment(s)) | (Segment(s), Point(p)) => point_in_segment(&s, p, tol).then_some(TouchSet::Point(p)),
+        (Point(p), Region(r)) | (Region(r), Point(p)) => point_in_face(&r, p, tol).then_some(TouchSet::Point(p)),
+        (Segment(s), Segment(t)) => edge_edge(&s, &t, tol),
+        (Segment(s), Region(r)) | (Region(r), Segment(s)) => edge_face(&s, &r, tol),
+        (Region(f), Region(g)) => face_face(&f, &g, tol),
     }
 }
 
@@ -296,9 +280,9 @@ pub(crate) fn closure_holders(part: &Part, e: ElementId) -> Vec<ElementId> {
     out
 }
 
-/// The principal touches among `touches` (DOMAIN.md section 3): a touch (a, b) is
-/// implied, not principal, when a touch (a'', b'') with a ⊆ closure(a''),
-/// b ⊆ closure(b'') has a set whose closure contains I(a, b).
+/// The principal touches among `touches` (docs/concepts.md#principal-contacts): a touch (a,
+/// b) is implied, not principal, when a touch (a'', b'') with a ⊆ closure(a''), b ⊆
+/// closure(b'') has a set whose closure contains I(a, b).
 pub(crate) fn principal(
     fixed: &Part,
     moving: &Part,
@@ -365,17 +349,13 @@ pub(crate) fn apart_by_plane(
 
 /// The distance between two placed elements.
 pub(crate) fn distance(fixed: &PlacedPart<'_>, a: ElementId, moving: &PlacedPart<'_>, b: ElementId) -> f64 {
-    use super::queries::{point_region, region_region, segment_region};
-    use ElementId::{Edge, Face, Vertex};
-    match (a, b) {
-        (Vertex(va), Vertex(vb)) => fixed.vertex(va).distance(moving.vertex(vb)),
-        (Vertex(va), Edge(eb)) => point_segment(fixed.vertex(va), &moving.segment(eb)).0,
-        (Edge(ea), Vertex(vb)) => point_segment(moving.vertex(vb), &fixed.segment(ea)).0,
-        (Vertex(va), Face(fb)) => point_region(fixed.vertex(va), &moving.region(fb)).0,
-        (Face(fa), Vertex(vb)) => point_region(moving.vertex(vb), &fixed.region(fa)).0,
-        (Edge(ea), Edge(eb)) => segment_segment(&fixed.segment(ea), &moving.segment(eb)).0,
-        (Edge(ea), Face(fb)) => segment_region(&fixed.segment(ea), &moving.region(fb)),
-        (Face(fa), Edge(eb)) => segment_region(&moving.segment(eb), &fixed.region(fa)),
-        (Face(fa), Face(fb)) => region_region(&fixed.region(fa), &moving.region(fb)),
+    use Shape::{Point, Region, Segment};
+    match (fixed.shape(a), moving.shape(b)) {
+        (Point(p), Point(q)) => p.distance(q),
+        (Point(p), Segment(s)) | (Segment(s), Point(p)) => point_segment(p, &s).0,
+        (Point(p), Region(r)) | (Region(r), Point(p)) => point_region(p, &r).0,
+        (Segment(s), Segment(t)) => segment_segment(&s, &t).0,
+        (Segment(s), Region(r)) | (Region(r), Segment(s)) => segment_region(&s, &r),
+        (Region(f), Region(g)) => region_region(&f, &g),
     }
 }

@@ -300,21 +300,21 @@ fn element_exists(part: &PartElements, element: ElementId) -> bool {
 
 /// One contact as text: `f-v f3 v7` (kind, fixed element, moving element).
 #[must_use]
-pub fn contact_text(contact: &crate::contact::ContactRecord) -> String {
+pub(crate) fn contact_text(contact: &crate::contact::ContactRecord) -> String {
     format!("{} {} {}", contact.kind.label(), contact.fixed, contact.moving)
 }
 
 /// A state's contacts as text, `; `-separated (`f-f f1 f0; f-v f2 v3`); empty for free
 /// space.
 #[must_use]
-pub fn contacts_text(state: &StateRecord) -> String {
+pub(crate) fn contacts_text(state: &StateRecord) -> String {
     state.contacts.iter().map(contact_text).collect::<Vec<_>>().join("; ")
 }
 
 /// A state's witness pose as `x,y,z,rx,ry,rz` (radians), the form `acsg contacts --radians
 /// --pose` reads; `None` without a witness.
 #[must_use]
-pub fn witness_text(state: &StateRecord) -> Option<String> {
+pub(crate) fn witness_text(state: &StateRecord) -> Option<String> {
     state
         .witness
         .as_ref()

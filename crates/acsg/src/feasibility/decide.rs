@@ -25,7 +25,7 @@ use super::turns::Turns;
 use super::{Problem, SearchStats};
 use crate::contact::PrincipalContact;
 use crate::pose::{Bounds, Pose};
-use crate::tolerance::{CONTACT_REL, scaled};
+use crate::tolerance::{CONTACT_REL, NEAR_REL, scaled};
 
 /// A rule that excluded boxes of poses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
@@ -90,10 +90,6 @@ impl Decided {
         }
     }
 }
-
-/// The half-size of the first box around a witness that [`Problem::decide_below`]
-/// searches (translations relative to L, angles in radians).
-const NEAR_REL: f64 = 1e-4;
 
 /// Boxes examined before the first optimisation: cheap proofs come first.
 const PRUNE_BUDGET: usize = 256;

@@ -3,7 +3,7 @@
 //! witness pose, a proof that no pose exists (with the rules that proved it), or
 //! undecided with the smallest box the proof left open.
 //!
-//! A decision ([`Problem::decide`]) is a branch and prune over boxes of poses:
+//! A decision (`Problem::decide`) is a branch and prune over boxes of poses:
 //! 1. local searches first: Levenberg–Marquardt within the bounds on residuals that
 //!    vanish exactly when the contacts hold with their contact points inside the
 //!    elements' relative interiors (with a margin) and nothing penetrates, from warm,
@@ -28,8 +28,6 @@ mod interval;
 mod lp;
 mod prover;
 mod residual;
-#[cfg(test)]
-mod scratch;
 mod slide;
 mod solver;
 mod turns;
@@ -45,7 +43,7 @@ use residual::{FaceShape, Margins, Side};
 pub(crate) use decide::Starts;
 pub use decide::{Decided, Decision, Proof, Rule};
 
-/// Every primitive principal contact (DOMAIN.md section 3): faces of the fixed part
+/// Every primitive principal contact (docs/concepts.md#ppc-and-klc): faces of the fixed part
 /// against convex vertices of the moving part (f-v), convex edges against convex edges
 /// (e-e), convex vertices of the fixed part against faces of the moving part (v-f).
 #[must_use]
@@ -125,7 +123,7 @@ pub fn single_contacts(fixed: &Part, moving: &Part, degenerate: bool) -> Vec<Pri
             if !wanted {
                 continue;
             }
-            let kind = crate::contact::kind_of(a, b, matches!((a, b), (Edge(_), Edge(_))));
+            let kind = ContactKind::of(a, b, matches!((a, b), (Edge(_), Edge(_))));
             out.push(PrincipalContact {
                 fixed: a,
                 moving: b,
@@ -211,8 +209,8 @@ pub struct Problem<'a> {
 }
 
 impl<'a> Problem<'a> {
-    /// Prepares the searches for two parts and bounds; `assembled` is G (DOMAIN.md
-    /// section 5).
+    /// Prepares the searches for two parts and bounds; `assembled` is G
+    /// (docs/concepts.md#poses-and-bounds).
     #[must_use]
     pub fn new(fixed: &'a Part, moving: &'a Part, bounds: Bounds, assembled: DAffine3) -> Problem<'a> {
         let scene = ContactScene::new(fixed, moving);
@@ -375,7 +373,7 @@ impl<'a> Problem<'a> {
     /// The contact state at a pose if the pose is clean: inside the bounds, no
     /// penetration, every pair that does not touch at least the separation tolerance
     /// apart, and the same state read with a touching tolerance just under the
-    /// separation (DOMAIN.md section 7: a witness is robust, every checker whose
+    /// separation (docs/concepts.md#tolerances: a witness is robust, every checker whose
     /// tolerance lies between the two reads it alike; a face tilted off another's plane
     /// by less than the separation is read as lying on it). Empty for a clean pose in
     /// free space.
@@ -408,7 +406,7 @@ impl<'a> Problem<'a> {
     }
 
     /// Whether two point contacts of a state put two points of one edge on one face's
-    /// closure: then the edge lies in the face's plane, and DOMAIN.md section 7 reads
+    /// closure: then the edge lies in the face's plane, and docs/concepts.md#tolerances reads
     /// the edge in the face (e-f or f-e), not two point contacts, so no witness shows
     /// the state robustly (a vertex on a face and its edge crossing the face's edge,
     /// say).

@@ -377,7 +377,7 @@ impl<'a> Prover<'a> {
                 continue;
             }
             // The element of lower dimension lies on every plane through the other.
-            let (da, db) = (dimension(ea), dimension(eb));
+            let (da, db) = (ea.dimension(), eb.dimension());
             if da >= db {
                 for f in planes_through(self.fixed, ea) {
                     let (n, d) = self.a.planes[f];
@@ -863,14 +863,6 @@ fn narrow(c: Linear, t: &mut IVec) -> Option<()> {
         }
     }
     Some(())
-}
-
-fn dimension(e: ElementId) -> u8 {
-    match e {
-        ElementId::Vertex(_) => 0,
-        ElementId::Edge(_) => 1,
-        ElementId::Face(_) => 2,
-    }
 }
 
 /// Indices of the faces whose planes contain an element.

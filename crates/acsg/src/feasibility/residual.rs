@@ -8,8 +8,9 @@
 
 use glam::{DAffine3, DVec3};
 
-use crate::contact::queries::{PlanarRegion, Segment, clip_convex, point_segment};
+use crate::geometry::{PlanarRegion, Segment, clip_convex, point_segment};
 use crate::model::{EdgeId, FaceId, Part, VertexId};
+use crate::tolerance::ROUNDOFF_REL;
 
 /// A face's plane and loops as points, in its part's own frame.
 #[derive(Clone, Debug)]
@@ -258,12 +259,12 @@ pub(crate) fn edge_crossing(a: Side, e: EdgeId, b: Side, x: EdgeId, map: &DAffin
     let r = a0 - b0;
     let (uu, uw, ww, ur, wr) = (u.dot(u), u.dot(w), w.dot(w), u.dot(r), w.dot(r));
     let det = uu * ww - uw * uw;
-    let (s, v) = if det > 1e-12 * uu * ww {
+    let (s, v) = if det > ROUNDOFF_REL * uu * ww {
         ((uw * wr - ww * ur) / det, (uu * wr - uw * ur) / det)
     } else {
         (0.5, 0.5)
     };
-    out.push(if n.length() > 1e-12 * u.length() * w.length() {
+    out.push(if n.length() > ROUNDOFF_REL * u.length() * w.length() {
         n.normalize().dot(b0 - a0)
     } else {
         point_segment(b0, &Segment::new(a0, a1)).0

@@ -2,6 +2,7 @@
 //! bounds by projection, with a forward-difference Jacobian.
 
 use crate::pose::{Bounds, Pose};
+use crate::tolerance::{AT_BOUND_REL, DAMPING_FLOOR_REL, DIFFERENCE_STEP_REL, NEGLIGIBLE, SOLVED_REL};
 
 /// Iteration limit of one local optimisation.
 const MAX_ITERATIONS: usize = 150;
@@ -20,7 +21,7 @@ fn sum_squares(r: &[f64]) -> f64 {
 fn solve6(mut m: [[f64; 6]; 6], mut b: [f64; 6]) -> Option<[f64; 6]> {
     for col in 0..6 {
         let pivot = (col..6).max_by(|&i, &j| m[i][col].abs().total_cmp(&m[j][col].abs()))?;
-        if m[pivot][col].abs() < 1e-300 {
+        if m[pivot][col].abs() < NEGLIGIBLE {
             return None;
         }
         m.swap(col, pivot);
@@ -45,17 +46,20 @@ fn solve6(mut m: [[f64; 6]; 6], mut b: [f64; 6]) -> Option<[f64; 6]> {
 /// Minimises the sum of squared residuals over poses in `bounds`, from `start`.
 /// `scale` is the length scale L (for step sizes and the stopping threshold).
 pub(crate) fn minimise(residuals: impl Fn(&Pose, &mut Vec<f64>), start: Pose, bounds: &Bounds, scale: f64) -> Pose {
-    let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
-    let steps = [1e-7 * scale, 1e-7 * scale, 1e-7 * scale, 1e-7, 1e-7, 1e-7];
-    let clamp = |x: [f64; 6]| std::array::from_fn::<f64, 6, _>(|i| x[i].max(lo[i]).min(hi[i]));
+    let step = DIFFERENCE_STEP_REL;
+    let limits = Limits {
+        lo: bounds.min.to_array(),
+        hi: bounds.max.to_array(),
+        steps: [step * scale, step * scale, step * scale, step, step, step],
+    };
     let eval = |x: &[f64; 6], out: &mut Vec<f64>| residuals(&Pose::from_array(*x), out);
-    let stop = (1e-11 * scale).powi(2);
+    let stop = (SOLVED_REL * scale).powi(2);
 
-    let mut x = clamp(start.to_array());
+    let mut x = limits.clamp(start.to_array());
     let mut r = Vec::new();
     eval(&x, &mut r);
     let mut f = sum_squares(&r);
-    let mut lambda = 1e-3;
+    let mut lambda = LAMBDA_START;
     let mut probe = Vec::new();
     let mut checkpoint = f;
     for it in 0..MAX_ITERATIONS {
@@ -68,68 +72,31 @@ pub(crate) fn minimise(residuals: impl Fn(&Pose, &mut Vec<f64>), start: Pose, bo
             }
             checkpoint = f;
         }
-        // Forward differences, stepping inwards at an upper bound.
-        let mut jac = vec![[0.0; 6]; r.len()];
-        for i in 0..6 {
-            let mut xp = x;
-            let h = if x[i] + steps[i] <= hi[i] { steps[i] } else { -steps[i] };
-            if x[i] + h < lo[i] {
-                continue; // a fixed component
-            }
-            xp[i] += h;
-            eval(&xp, &mut probe);
-            for (row, (&rp, &r0)) in jac.iter_mut().zip(probe.iter().zip(&r)) {
-                row[i] = (rp - r0) / h;
-            }
-        }
-        let mut a = [[0.0; 6]; 6];
-        let mut g = [0.0; 6];
-        for (row, &ri) in jac.iter().zip(&r) {
-            for i in 0..6 {
-                g[i] += row[i] * ri;
-                for j in 0..6 {
-                    a[i][j] += row[i] * row[j];
-                }
-            }
-        }
-        // Active bounds: a component on a bound that descent would push outwards stays
-        // there for this step, so that the step slides along the bound instead of being
-        // cut short by the projection.
-        for i in 0..6 {
-            let span = (hi[i] - lo[i]).abs().max(steps[i]);
-            let at_lower = x[i] <= lo[i] + 1e-12 * span && g[i] > 0.0;
-            let at_upper = x[i] >= hi[i] - 1e-12 * span && g[i] < 0.0;
-            if at_lower || at_upper || hi[i] <= lo[i] {
-                a[i] = [0.0; 6];
-                for row in &mut a {
-                    row[i] = 0.0;
-                }
-                a[i][i] = 1.0;
-                g[i] = 0.0;
-            }
-        }
+        let jac = limits.jacobian(eval, &x, &r, &mut probe);
+        let (mut a, mut g) = normal_equations(&jac, &r);
+        limits.hold_active(&mut a, &mut g, &x);
         let largest = (0..6).map(|i| a[i][i]).fold(0.0, f64::max);
         if largest == 0.0 {
             break;
         }
         let mut improved = false;
-        while lambda < 1e12 {
+        while lambda < LAMBDA_MAX {
             let mut m = a;
             for (i, row) in m.iter_mut().enumerate() {
-                row[i] += lambda * (a[i][i] + 1e-9 * largest);
+                row[i] += lambda * (a[i][i] + DAMPING_FLOOR_REL * largest);
             }
             let Some(delta) = solve6(m, g.map(|v| -v)) else {
                 lambda *= 4.0;
                 continue;
             };
-            let candidate = clamp(std::array::from_fn(|i| x[i] + delta[i]));
+            let candidate = limits.clamp(std::array::from_fn(|i| x[i] + delta[i]));
             eval(&candidate, &mut probe);
             let fc = sum_squares(&probe);
             if fc < f {
                 x = candidate;
                 std::mem::swap(&mut r, &mut probe);
                 f = fc;
-                lambda = (lambda / 3.0).max(1e-12);
+                lambda = (lambda / 3.0).max(LAMBDA_MIN);
                 improved = true;
                 break;
             }
@@ -140,6 +107,91 @@ pub(crate) fn minimise(residuals: impl Fn(&Pose, &mut Vec<f64>), start: Pose, bo
         }
     }
     Pose::from_array(x)
+}
+
+/// The Levenberg–Marquardt damping: its first value, and the range it is kept in (a
+/// step that does not improve quadruples it, one that does divides it by 3).
+const LAMBDA_START: f64 = 1e-3;
+const LAMBDA_MIN: f64 = 1e-12;
+const LAMBDA_MAX: f64 = 1e12;
+
+/// The bounds of the six pose components and their difference steps.
+struct Limits {
+    lo: [f64; 6],
+    hi: [f64; 6],
+    steps: [f64; 6],
+}
+
+impl Limits {
+    /// `x` projected into the bounds.
+    fn clamp(&self, x: [f64; 6]) -> [f64; 6] {
+        std::array::from_fn::<f64, 6, _>(|i| x[i].max(self.lo[i]).min(self.hi[i]))
+    }
+
+    /// The Jacobian of the residuals `r` at `x` by forward differences, stepping
+    /// inwards at an upper bound; a fixed component (no room for a step) keeps a zero
+    /// column.
+    fn jacobian(
+        &self,
+        eval: impl Fn(&[f64; 6], &mut Vec<f64>),
+        x: &[f64; 6],
+        r: &[f64],
+        probe: &mut Vec<f64>,
+    ) -> Vec<[f64; 6]> {
+        let mut jac = vec![[0.0; 6]; r.len()];
+        for i in 0..6 {
+            let mut xp = *x;
+            let h = if x[i] + self.steps[i] <= self.hi[i] {
+                self.steps[i]
+            } else {
+                -self.steps[i]
+            };
+            if x[i] + h < self.lo[i] {
+                continue; // a fixed component
+            }
+            xp[i] += h;
+            eval(&xp, probe);
+            for (row, (&rp, &r0)) in jac.iter_mut().zip(probe.iter().zip(r)) {
+                row[i] = (rp - r0) / h;
+            }
+        }
+        jac
+    }
+
+    /// Active bounds: a component on a bound that descent would push outwards stays
+    /// there for this step, so that the step slides along the bound instead of being
+    /// cut short by the projection. Its row and column of the normal equations become
+    /// the identity's, its gradient zero.
+    fn hold_active(&self, a: &mut [[f64; 6]; 6], g: &mut [f64; 6], x: &[f64; 6]) {
+        for i in 0..6 {
+            let span = (self.hi[i] - self.lo[i]).abs().max(self.steps[i]);
+            let at_lower = x[i] <= self.lo[i] + AT_BOUND_REL * span && g[i] > 0.0;
+            let at_upper = x[i] >= self.hi[i] - AT_BOUND_REL * span && g[i] < 0.0;
+            if at_lower || at_upper || self.hi[i] <= self.lo[i] {
+                a[i] = [0.0; 6];
+                for row in a.iter_mut() {
+                    row[i] = 0.0;
+                }
+                a[i][i] = 1.0;
+                g[i] = 0.0;
+            }
+        }
+    }
+}
+
+/// The Gauss–Newton normal equations `JᵀJ`, `Jᵀr`.
+fn normal_equations(jac: &[[f64; 6]], r: &[f64]) -> ([[f64; 6]; 6], [f64; 6]) {
+    let mut a = [[0.0; 6]; 6];
+    let mut g = [0.0; 6];
+    for (row, &ri) in jac.iter().zip(r) {
+        for i in 0..6 {
+            g[i] += row[i] * ri;
+            for j in 0..6 {
+                a[i][j] += row[i] * row[j];
+            }
+        }
+    }
+    (a, g)
 }
 
 #[cfg(test)]

@@ -14,9 +14,10 @@ use glam::DVec3;
 use super::Problem;
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
+use crate::geometry::Aabb;
 use crate::model::{ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
-use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
+use crate::tolerance::{CONTACT_REL, MIN_TILT, ROTATION_PROBE, SEPARATION_REL, scaled};
 
 /// `n · (R d)` must meet `[lo, hi]`.
 #[derive(Clone, Copy, Debug)]
@@ -164,7 +165,7 @@ impl Turns {
             x[k] += h;
             Pose::from_array(x).rotation()
         };
-        let h = 1e-6;
+        let h = ROTATION_PROBE;
         let mut best = (0.0, None);
         for (k, &w) in width.iter().enumerate().skip(3) {
             if w <= 0.0 {
@@ -195,11 +196,10 @@ impl Problem<'_> {
     }
 
     fn add_turns(&self, pc: &PrincipalContact, out: &mut Turns) {
-        let slack = 1e-9;
         // A contact holds to the contact tolerance: an edge of length ℓ lies in a face
         // when its ends are that close to the plane, so its direction may be off the
         // plane by (tolerance / ℓ); ten times that, as the prover allows.
-        let tilt = |length: f64| (scaled(10.0 * CONTACT_REL, self.scale) / length).max(slack);
+        let tilt = |length: f64| (scaled(10.0 * CONTACT_REL, self.scale) / length).max(MIN_TILT);
         // Everything in G's frame, where the rotation enclosures are of R.
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
         // Half the separation: a margin no witness can lack.
@@ -407,14 +407,8 @@ impl Problem<'_> {
 
 /// The diagonal of a face's bounding box.
 fn diameter(part: &Part, f: FaceId) -> f64 {
-    let points: Vec<DVec3> = part
-        .closure_vertices(ElementId::Face(f))
-        .iter()
-        .map(|&v| part.vertex(v).position)
-        .collect();
-    let lo = points.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-    let hi = points.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
-    lo.distance(hi)
+    let corners = part.closure_vertices(ElementId::Face(f));
+    Aabb::around(corners.iter().map(|&v| part.vertex(v).position)).diagonal()
 }
 
 #[cfg(test)]

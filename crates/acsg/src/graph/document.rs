@@ -40,8 +40,8 @@ pub struct Document {
     /// Neighbour pairs of state ids.
     pub edges: Vec<[usize; 2]>,
     /// Whether every candidate the search met was witnessed or proved infeasible
-    /// (DOMAIN.md section 4): then no state within the bounds is missing. Always false
-    /// with the paper's strategy, which proves nothing infeasible.
+    /// (docs/concepts.md#the-graph): then no state within the bounds is missing. Always
+    /// false with the paper's strategy, which proves nothing infeasible.
     #[serde(default)]
     pub complete: bool,
     /// The candidates left undecided: states the graph may lack.

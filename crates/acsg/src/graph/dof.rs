@@ -1,13 +1,15 @@
 //! Degrees of freedom of a contact state at its witness: 6 minus the rank of the
 //! contact constraints (one unit wrench per contact point and normal direction). For a
-//! single contact this gives DOMAIN.md section 3's table (5 for point contacts, 4 for an
-//! edge in a face or a vertex in a groove, 3 for face on face or a vertex in a corner,
-//! 2 for an edge in a groove); for several contacts it counts what they leave together.
+//! single contact this gives the table of docs/concepts.md#degrees-of-freedom (5 for point
+//! contacts, 4 for an edge in a face or a vertex in a groove, 3 for face on face or a
+//! vertex in a corner, 2 for an edge in a groove); for several contacts it counts what they
+//! leave together.
 
 use glam::{DAffine3, DVec3};
 
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::model::{ElementId, Part};
+use crate::tolerance::RANK_REL;
 
 /// Contact points (A's frame) with the directions they block.
 fn constraints(fixed: &Part, moving: &Part, pc: &PrincipalContact, t: &DAffine3) -> Vec<(DVec3, DVec3)> {
@@ -58,7 +60,7 @@ fn constraints(fixed: &Part, moving: &Part, pc: &PrincipalContact, t: &DAffine3)
 /// The degrees of freedom a state leaves at the pose `t` (B's frame to A's); `scale` is
 /// the length scale L.
 #[must_use]
-pub fn state_dof(fixed: &Part, moving: &Part, contacts: &[PrincipalContact], t: &DAffine3, scale: f64) -> u8 {
+pub(crate) fn state_dof(fixed: &Part, moving: &Part, contacts: &[PrincipalContact], t: &DAffine3, scale: f64) -> u8 {
     let pairs: Vec<(DVec3, DVec3)> = contacts
         .iter()
         .flat_map(|pc| constraints(fixed, moving, pc, t))
@@ -76,7 +78,7 @@ pub fn state_dof(fixed: &Part, moving: &Part, contacts: &[PrincipalContact], t: 
             [n.x, n.y, n.z, m.x, m.y, m.z]
         })
         .collect();
-    6 - rank(&mut rows, 1e-7) as u8
+    6 - rank(&mut rows, RANK_REL) as u8
 }
 
 /// Rank by Gaussian elimination with full row pivoting; entries below `tol` count as 0.

@@ -1,5 +1,5 @@
 //! The Assembly Contact State Graph: every contact state that some pose within the
-//! bounds shows (DOMAIN.md section 4), each with a verified witness, and the neighbour
+//! bounds shows (docs/concepts.md#the-graph), each with a verified witness, and the neighbour
 //! relation between them.
 //!
 //! The graph being built (module `store`: states, canonical index, completeness
@@ -16,7 +16,7 @@
 pub mod document;
 mod dof;
 mod neighbours;
-pub mod rules;
+pub(crate) mod rules;
 mod store;
 pub mod strategy;
 
@@ -29,7 +29,7 @@ use crate::model::Part;
 use crate::pose::{Bounds, Pose};
 
 pub use document::Document;
-pub use dof::state_dof;
+pub(crate) use dof::state_dof;
 pub use strategy::Strategy;
 
 /// How to generate a graph.

@@ -1,6 +1,6 @@
 //! The combinatorial side of stage 2: which primitive contacts a state already implies
 //! (its KLC), and what a state plus one more primitive contact can become (the derived
-//! mapping rules of DOMAIN.md section 6, with topological existence).
+//! mapping rules of docs/concepts.md#generation, with topological existence).
 //!
 //! The rules only prune and propose: a proposed state is accepted only when a verified
 //! witness shows it (P(X) at the witness is the canonical description).
@@ -79,7 +79,7 @@ fn contact(a: ElementId, b: ElementId) -> PrincipalContact {
         fixed: a,
         moving: b,
         // Two edges merged from two contacts lie along each other (e-e-t).
-        kind: crate::contact::kind_of(a, b, true),
+        kind: ContactKind::of(a, b, true),
     }
 }
 
@@ -91,16 +91,6 @@ enum Outcome {
     Keep,
     /// They are one contact.
     Merge(PrincipalContact),
-}
-
-fn is_vertex(e: ElementId) -> bool {
-    matches!(e, ElementId::Vertex(_))
-}
-fn is_edge(e: ElementId) -> bool {
-    matches!(e, ElementId::Edge(_))
-}
-fn is_face(e: ElementId) -> bool {
-    matches!(e, ElementId::Face(_))
 }
 
 /// Whether a contact touches at a single point (f-v, v-f, e-e, e-v, v-e, v-v).
@@ -121,13 +111,13 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
     let (a1, b1, a2, b2) = (c1.fixed, c1.moving, c2.fixed, c2.moving);
     // One point of B (a vertex, or an edge lying in two faces) touching two elements of
     // A: it lies where their closures meet.
-    if b1 == b2 && (is_vertex(b1) || (is_edge(b1) && is_face(a1) && is_face(a2))) {
+    if b1 == b2 && (b1.is_vertex() || (b1.is_edge() && a1.is_face() && a2.is_face())) {
         return meet(fixed, a1, a2)
             .into_iter()
             .map(|a| Outcome::Merge(contact(a, b1)))
             .collect();
     }
-    if a1 == a2 && (is_vertex(a1) || (is_edge(a1) && is_face(b1) && is_face(b2))) {
+    if a1 == a2 && (a1.is_vertex() || (a1.is_edge() && b1.is_face() && b2.is_face())) {
         return meet(moving, b1, b2)
             .into_iter()
             .map(|b| Outcome::Merge(contact(a1, b)))
@@ -149,7 +139,7 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
             } else {
                 merged
             };
-            if hinged && is_face(a) && is_face(b) && merged != c1 && merged != c2 {
+            if hinged && a.is_face() && b.is_face() && merged != c1 && merged != c2 {
                 outcomes.push(Outcome::Keep);
             }
             outcomes.push(Outcome::Merge(merged));
@@ -168,7 +158,7 @@ fn combine(fixed: &Part, moving: &Part, c1: PrincipalContact, c2: PrincipalConta
                 let low = PrincipalContact {
                     fixed: a,
                     moving: b,
-                    kind: crate::contact::kind_of(a, b, false),
+                    kind: ContactKind::of(a, b, false),
                 };
                 if low != c1 && low != c2 && !outcomes.contains(&Outcome::Merge(low)) {
                     outcomes.push(Outcome::Merge(low));
@@ -236,6 +226,9 @@ fn close(
 /// topological existence rules the combination out. Two point contacts within one face
 /// on each side map to the two faces in contact (the likely outcome, which keeps the
 /// search small); [`grow_every`] also keeps them apart.
+// The paper's one-outcome mapping: used by the tests here (and by a search that follows
+// the paper step by step).
+#[cfg_attr(not(test), allow(dead_code))]
 #[must_use]
 pub fn grow(
     fixed: &Part,
@@ -273,7 +266,7 @@ fn grow_with(
     out.into_iter().collect()
 }
 
-/// The primitive contacts a contact implies (its KLC, DOMAIN.md section 3): those that
+/// The primitive contacts a contact implies (its KLC, docs/concepts.md#ppc-and-klc): those that
 /// hold wherever it holds, in the closure of its contact region. f-e: the edge's ends
 /// on the face and the edge crossing the face's boundary; f-f: the vertices of either
 /// face on the other and the crossings of their boundaries; e-v: the vertex on the
@@ -384,7 +377,7 @@ mod tests {
         PrincipalContact {
             fixed,
             moving,
-            kind: crate::contact::kind_of(fixed, moving, false),
+            kind: ContactKind::of(fixed, moving, false),
         }
     }
 

@@ -39,6 +39,7 @@ use glam::DVec3;
 use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, soup_from_faces};
 use super::text::read_limited;
 use super::{MeshSoup, ParseError, Place};
+use crate::tolerance::JOIN_REL;
 
 /// What every refusal suggests.
 const EXPORT_HINT: &str = "export the part as a planar (faceted) solid, e.g. IGES B-rep (entity 186) or STEP, or as a mesh (OFF, STL, OBJ, PLY)";
@@ -229,28 +230,38 @@ fn unit_from_name(name: &str) -> Option<i64> {
     })
 }
 
-impl IgesFile {
-    fn parse(bytes: &[u8]) -> Result<IgesFile, ParseError> {
-        if !bytes.is_ascii() {
-            let at = bytes.iter().position(|b| !b.is_ascii()).unwrap_or(0);
-            return Err(err(
-                Place::Byte(at as u64),
-                "the file holds non-ASCII bytes; IGES is fixed-column ASCII text",
-                format!("binary and compressed IGES are not read; {EXPORT_HINT}"),
-            ));
-        }
-        // Records are lines; a file without line breaks is a run of 80-byte records.
-        let text = std::str::from_utf8(bytes).unwrap_or_default();
-        let lines: Vec<&str> = if !text.contains('\n') && text.len() % 80 == 0 && text.len() >= 80 {
-            (0..text.len() / 80)
-                .filter_map(|k| text.get(k * 80..k * 80 + 80))
-                .collect()
-        } else {
-            text.lines().map(|l| l.strip_suffix('\r').unwrap_or(l)).collect()
+/// The file as text, refused unless it is ASCII.
+fn ascii_text(bytes: &[u8]) -> Result<&str, ParseError> {
+    if !bytes.is_ascii() {
+        let at = bytes.iter().position(|b| !b.is_ascii()).unwrap_or(0);
+        return Err(err(
+            Place::Byte(at as u64),
+            "the file holds non-ASCII bytes; IGES is fixed-column ASCII text",
+            format!("binary and compressed IGES are not read; {EXPORT_HINT}"),
+        ));
+    }
+    Ok(std::str::from_utf8(bytes).unwrap_or_default())
+}
+
+/// The records of the global, directory and parameter sections.
+struct Sections<'a> {
+    /// The global section's text (columns 1 to 72 of its records, joined).
+    global: String,
+    /// The directory records with their line numbers.
+    directory: Vec<(usize, &'a str)>,
+    /// The parameter records' data (columns 1 to 64) with their line numbers.
+    params: Vec<(usize, String)>,
+}
+
+impl<'a> Sections<'a> {
+    /// Sorts the records by the section letter in column 73, checking that every
+    /// record is whole, the sections come in order and the file is terminated.
+    fn of(lines: &[&'a str]) -> Result<Sections<'a>, ParseError> {
+        let mut sections = Sections {
+            global: String::new(),
+            directory: Vec::new(),
+            params: Vec::new(),
         };
-        let mut global = String::new();
-        let mut directory: Vec<(usize, &str)> = Vec::new();
-        let mut params: Vec<(usize, String)> = Vec::new();
         let mut terminated = false;
         let mut last_section = 'S';
         for (k, line) in lines.iter().enumerate() {
@@ -274,35 +285,13 @@ impl IgesFile {
                 ));
             }
             let section = line.chars().nth(72).unwrap_or(' ');
-            let body = |end: usize| line.get(..end.min(line.len())).unwrap_or_default();
-            let order = |s: char| "SGDPT".find(s);
-            match (order(section), order(last_section)) {
-                (Some(now), Some(before)) if now < before => {
-                    return Err(err(
-                        Place::Line(number),
-                        format!("section `{section}` comes after section `{last_section}`"),
-                        "the sections must come in the order S, G, D, P, T; export the file again",
-                    ));
-                }
-                (None, _) => {
-                    let fix = if section == 'C' || section == 'B' {
-                        format!("compressed and binary IGES are not read; {EXPORT_HINT}")
-                    } else {
-                        "every IGES record is 80 columns with the section letter (S, G, D, P, T) in column 73; the file may be damaged or not IGES".to_owned()
-                    };
-                    return Err(err(
-                        Place::Line(number),
-                        format!("column 73 holds `{section}`, not a section letter"),
-                        fix,
-                    ));
-                }
-                _ => {}
-            }
+            check_section_order(section, last_section, number)?;
             last_section = section;
+            let body = |end: usize| line.get(..end.min(line.len())).unwrap_or_default();
             match section {
-                'G' => global.push_str(body(72)),
-                'D' => directory.push((number, *line)),
-                'P' => params.push((number, format!("{:<64}", body(64)))),
+                'G' => sections.global.push_str(body(72)),
+                'D' => sections.directory.push((number, *line)),
+                'P' => sections.params.push((number, format!("{:<64}", body(64)))),
                 'T' => terminated = true,
                 _ => {}
             }
@@ -314,65 +303,113 @@ impl IgesFile {
                 "export the file again and copy it whole",
             ));
         }
-        let (delimiters, global_tokens) = parse_global(&global)?;
-        let to_mm = units(&global_tokens)?;
+        Ok(sections)
+    }
+}
 
-        if directory.len() % 2 != 0 {
-            let line = directory.last().map_or(1, |d| d.0);
-            return Err(err(
-                Place::Line(line),
-                format!(
-                    "the directory section has {} lines; entries come in pairs",
-                    directory.len()
-                ),
-                "the file looks truncated or damaged; export it again",
-            ));
-        }
-        let mut entries = Vec::with_capacity(directory.len() / 2);
-        let mut by_de = HashMap::new();
-        for pair in directory.chunks_exact(2) {
-            let ((line, first), (_, second)) = (pair[0], pair[1]);
-            let field = |l: &str, k: usize| {
-                l.get(k * 8..(k * 8 + 8).min(l.len()))
-                    .unwrap_or_default()
-                    .trim()
-                    .to_owned()
+/// A record of section `section` may follow one of `last_section`: a known section
+/// letter, in the order S, G, D, P, T.
+fn check_section_order(section: char, last_section: char, number: usize) -> Result<(), ParseError> {
+    let order = |s: char| "SGDPT".find(s);
+    match (order(section), order(last_section)) {
+        (Some(now), Some(before)) if now < before => Err(err(
+            Place::Line(number),
+            format!("section `{section}` comes after section `{last_section}`"),
+            "the sections must come in the order S, G, D, P, T; export the file again",
+        )),
+        (None, _) => {
+            let fix = if section == 'C' || section == 'B' {
+                format!("compressed and binary IGES are not read; {EXPORT_HINT}")
+            } else {
+                "every IGES record is 80 columns with the section letter (S, G, D, P, T) in column 73; the file may be damaged or not IGES".to_owned()
             };
-            let int = |l: &str, k: usize, what: &str| -> Result<i64, ParseError> {
-                let f = field(l, k);
-                if f.is_empty() {
-                    return Ok(0);
-                }
-                f.parse::<i64>().map_err(|_| {
-                    err(
-                        Place::Line(line),
-                        format!("directory entry field `{what}` is `{f}`, not an integer"),
-                        "the directory section is damaged; export the file again",
-                    )
-                })
-            };
-            let seq = first
-                .get(73..80)
-                .and_then(|s| s.trim().parse::<usize>().ok())
-                .unwrap_or(entries.len() * 2 + 1);
-            let kind = int(first, 0, "entity type")?;
-            let param_start = usize::try_from(int(first, 1, "parameter data pointer")?).unwrap_or(0);
-            let transform = int(first, 6, "transformation matrix")?;
-            let param_lines = usize::try_from(int(second, 3, "parameter line count")?).unwrap_or(0);
-            by_de.insert(seq, entries.len());
-            entries.push(Entry {
-                kind,
-                de: seq,
-                line,
-                param_start,
-                param_lines,
-                transform,
-            });
+            Err(err(
+                Place::Line(number),
+                format!("column 73 holds `{section}`, not a section letter"),
+                fix,
+            ))
         }
+        _ => Ok(()),
+    }
+}
+
+/// The directory entries (two records each), and the index of each by its sequence
+/// number (DE).
+fn directory_entries(directory: &[(usize, &str)]) -> Result<(Vec<Entry>, HashMap<usize, usize>), ParseError> {
+    if directory.len() % 2 != 0 {
+        let line = directory.last().map_or(1, |d| d.0);
+        return Err(err(
+            Place::Line(line),
+            format!(
+                "the directory section has {} lines; entries come in pairs",
+                directory.len()
+            ),
+            "the file looks truncated or damaged; export it again",
+        ));
+    }
+    let mut entries = Vec::with_capacity(directory.len() / 2);
+    let mut by_de = HashMap::new();
+    for pair in directory.chunks_exact(2) {
+        let ((line, first), (_, second)) = (pair[0], pair[1]);
+        let field = |l: &str, k: usize| {
+            l.get(k * 8..(k * 8 + 8).min(l.len()))
+                .unwrap_or_default()
+                .trim()
+                .to_owned()
+        };
+        let int = |l: &str, k: usize, what: &str| -> Result<i64, ParseError> {
+            let f = field(l, k);
+            if f.is_empty() {
+                return Ok(0);
+            }
+            f.parse::<i64>().map_err(|_| {
+                err(
+                    Place::Line(line),
+                    format!("directory entry field `{what}` is `{f}`, not an integer"),
+                    "the directory section is damaged; export the file again",
+                )
+            })
+        };
+        let seq = first
+            .get(73..80)
+            .and_then(|s| s.trim().parse::<usize>().ok())
+            .unwrap_or(entries.len() * 2 + 1);
+        let kind = int(first, 0, "entity type")?;
+        let param_start = usize::try_from(int(first, 1, "parameter data pointer")?).unwrap_or(0);
+        let transform = int(first, 6, "transformation matrix")?;
+        let param_lines = usize::try_from(int(second, 3, "parameter line count")?).unwrap_or(0);
+        by_de.insert(seq, entries.len());
+        entries.push(Entry {
+            kind,
+            de: seq,
+            line,
+            param_start,
+            param_lines,
+            transform,
+        });
+    }
+    Ok((entries, by_de))
+}
+
+impl IgesFile {
+    fn parse(bytes: &[u8]) -> Result<IgesFile, ParseError> {
+        let text = ascii_text(bytes)?;
+        // Records are lines; a file without line breaks is a run of 80-byte records.
+        let lines: Vec<&str> = if !text.contains('\n') && text.len() % 80 == 0 && text.len() >= 80 {
+            (0..text.len() / 80)
+                .filter_map(|k| text.get(k * 80..k * 80 + 80))
+                .collect()
+        } else {
+            text.lines().map(|l| l.strip_suffix('\r').unwrap_or(l)).collect()
+        };
+        let sections = Sections::of(&lines)?;
+        let (delimiters, global_tokens) = parse_global(&sections.global)?;
+        let to_mm = units(&global_tokens)?;
+        let (entries, by_de) = directory_entries(&sections.directory)?;
         Ok(IgesFile {
             entries,
             by_de,
-            params,
+            params: sections.params,
             delimiters,
             to_mm,
         })
@@ -948,7 +985,7 @@ fn chain(mut segments: Vec<(DVec3, DVec3)>, p: &Params) -> Result<Vec<DVec3>, Pa
         .iter()
         .map(|(a, b)| a.abs().max(b.abs()).max_element())
         .fold(1.0, f64::max);
-    let tol = 1e-7 * size;
+    let tol = JOIN_REL * size;
     let broken = |at: DVec3| {
         err(
             p.place,

@@ -328,7 +328,7 @@ pub fn max_input_bytes() -> u64 {
 
 /// Why [`read_capped`] failed.
 #[derive(Debug)]
-pub enum CappedReadError {
+pub(crate) enum CappedReadError {
     /// The operating system's error.
     Io(std::io::Error),
     /// More than the limit; the size when the file system states it.
@@ -340,7 +340,7 @@ pub enum CappedReadError {
 ///
 /// # Errors
 /// [`CappedReadError`].
-pub fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, CappedReadError> {
+pub(crate) fn read_capped(path: &Path, limit: u64) -> Result<Vec<u8>, CappedReadError> {
     let file = std::fs::File::open(path).map_err(CappedReadError::Io)?;
     let reported = file.metadata().ok().filter(std::fs::Metadata::is_file).map(|m| m.len());
     if let Some(size) = reported.filter(|&s| s > limit) {
@@ -399,7 +399,7 @@ pub fn read_bytes_with(bytes: &[u8], path: &Path, options: &ReadOptions) -> Resu
 ///
 /// # Errors
 /// A [`ParseError`] for NaN or infinite coordinates.
-pub fn finite_point(p: [f64; 3], place: Place) -> Result<DVec3, ParseError> {
+pub(crate) fn finite_point(p: [f64; 3], place: Place) -> Result<DVec3, ParseError> {
     if p.iter().all(|c| c.is_finite()) {
         Ok(DVec3::from_array(p))
     } else {

@@ -61,8 +61,39 @@ fn parse(bytes: &[u8]) -> Result<MeshSoup, ParseError> {
     let mut lines = ContentLines {
         lines: TextLines::new(bytes, 1),
     };
+    let counts = read_counts(&mut lines)?;
+    let mut soup = MeshSoup {
+        polygon_noun: "face",
+        ..MeshSoup::default()
+    };
+    read_vertices(&mut lines, &counts, &mut soup)?;
+    read_faces(&mut lines, &counts, &mut soup)?;
+    if let Some((number, _)) = lines.next() {
+        let mut extra = 1;
+        while lines.next().is_some() {
+            extra += 1;
+        }
+        return Err(ParseError::new(
+            Place::Line(number),
+            format!(
+                "{extra} data line(s) follow the {} faces declared on line {}",
+                counts.faces, counts.line
+            ),
+            format!("correct the counts on line {}, or delete the extra lines", counts.line),
+        ));
+    }
+    Ok(soup)
+}
 
-    // Header keyword (optional), then the counts, possibly on the same line.
+/// The counts an OFF file declares, and the line they are on.
+struct Counts {
+    vertices: usize,
+    faces: usize,
+    line: usize,
+}
+
+/// The header keyword (optional), then the counts, possibly on the same line.
+fn read_counts(lines: &mut ContentLines<'_>) -> Result<Counts, ParseError> {
     let Some((first_number, first_text)) = lines.next() else {
         return Err(ParseError::new(
             Place::Whole,
@@ -109,12 +140,17 @@ fn parse(bytes: &[u8]) -> Result<MeshSoup, ParseError> {
             "an OFF file starts with `OFF` then a line `vertices faces edges`; check that the file is OFF",
         ));
     };
-    let (vertex_count, face_count) = parse_counts(&counts_tokens, counts_number)?;
+    let (vertices, faces) = parse_counts(&counts_tokens, counts_number)?;
+    Ok(Counts {
+        vertices,
+        faces,
+        line: counts_number,
+    })
+}
 
-    let mut soup = MeshSoup {
-        polygon_noun: "face",
-        ..MeshSoup::default()
-    };
+/// The declared number of vertex lines, `x y z [extra columns]`.
+fn read_vertices(lines: &mut ContentLines<'_>, counts: &Counts, soup: &mut MeshSoup) -> Result<(), ParseError> {
+    let (vertex_count, counts_number) = (counts.vertices, counts.line);
     soup.positions.reserve(vertex_count.min(1 << 16));
     for vertex in 0..vertex_count {
         let Some((number, text)) = lines.next() else {
@@ -148,87 +184,85 @@ fn parse(bytes: &[u8]) -> Result<MeshSoup, ParseError> {
         soup.positions
             .push(finite_vertex(p, &format!("vertex {vertex}"), place)?);
     }
+    Ok(())
+}
 
-    soup.polygons.reserve(face_count.min(1 << 16));
-    for face in 0..face_count {
+/// The declared number of face lines, `n i1 ... in [colour]`.
+fn read_faces(lines: &mut ContentLines<'_>, counts: &Counts, soup: &mut MeshSoup) -> Result<(), ParseError> {
+    soup.polygons.reserve(counts.faces.min(1 << 16));
+    for face in 0..counts.faces {
         let Some((number, text)) = lines.next() else {
             return Err(ended_early(
                 lines.lines.last_line(),
-                face_count,
+                counts.faces,
                 "face",
                 face,
-                counts_number,
+                counts.line,
             ));
         };
-        let place = Place::Line(number);
-        let mut tokens = strip_comment(&text).split_whitespace();
-        let count_token = tokens.next().unwrap_or_default();
-        let Ok(corners) = count_token.parse::<usize>() else {
-            return Err(ParseError::new(
-                place,
-                format!("`{count_token}` is not a vertex count (expected the first value of face {face})"),
-                "a face line is `n i1 ... in`: the number of vertices, then their indices",
-            ));
-        };
-        if corners < 3 {
-            return Err(ParseError::new(
-                place,
-                format!("face {face} has {corners} vertices; a face needs at least 3"),
-                "remove the degenerate face or re-export the model",
-            ));
-        }
-        let mut polygon = Vec::with_capacity(corners.min(64));
-        for position in 0..corners {
-            let Some(token) = tokens.next() else {
-                return Err(ParseError::new(
-                    place,
-                    format!("face {face} declares {corners} vertices but lists only {position} indices"),
-                    "a face line is `n i1 ... in`: give exactly n vertex indices",
-                ));
-            };
-            let Ok(index) = token.parse::<i64>() else {
-                return Err(ParseError::new(
-                    place,
-                    format!("`{token}` is not a vertex index (vertex {position} of face {face})"),
-                    "vertex indices are whole numbers counting from 0",
-                ));
-            };
-            if index < 0 {
-                return Err(ParseError::new(
-                    place,
-                    format!("face {face} refers to vertex {index}; OFF indices cannot be negative"),
-                    "vertex indices of an OFF file count from 0",
-                ));
-            }
-            let index = usize::try_from(index).unwrap_or(usize::MAX);
-            if index >= vertex_count {
-                return Err(ParseError::new(
-                    place,
-                    format!("face {face} refers to vertex {index} but the file has {vertex_count} vertices"),
-                    format!(
-                        "vertex indices of an OFF file count from 0; check the face and the vertex count on line {counts_number}"
-                    ),
-                ));
-            }
-            polygon.push(to_u32(index, place)?);
-        }
-        // Any further values are a face colour: ignored.
-        soup.polygons.push(polygon);
+        soup.polygons
+            .push(parse_face(&text, face, Place::Line(number), counts)?);
         soup.polygon_lines.push(Some(number));
     }
+    Ok(())
+}
 
-    if let Some((number, _)) = lines.next() {
-        let mut extra = 1;
-        while lines.next().is_some() {
-            extra += 1;
-        }
+/// One face line: its vertex count, then that many indices (any further values are a
+/// face colour, ignored).
+fn parse_face(text: &str, face: usize, place: Place, counts: &Counts) -> Result<Vec<u32>, ParseError> {
+    let (vertex_count, counts_number) = (counts.vertices, counts.line);
+    let mut tokens = strip_comment(text).split_whitespace();
+    let count_token = tokens.next().unwrap_or_default();
+    let Ok(corners) = count_token.parse::<usize>() else {
         return Err(ParseError::new(
-            Place::Line(number),
-            format!("{extra} data line(s) follow the {face_count} faces declared on line {counts_number}"),
-            format!("correct the counts on line {counts_number}, or delete the extra lines"),
+            place,
+            format!("`{count_token}` is not a vertex count (expected the first value of face {face})"),
+            "a face line is `n i1 ... in`: the number of vertices, then their indices",
+        ));
+    };
+    if corners < 3 {
+        return Err(ParseError::new(
+            place,
+            format!("face {face} has {corners} vertices; a face needs at least 3"),
+            "remove the degenerate face or re-export the model",
         ));
     }
-    Ok(soup)
+    let mut polygon = Vec::with_capacity(corners.min(64));
+    for position in 0..corners {
+        let Some(token) = tokens.next() else {
+            return Err(ParseError::new(
+                place,
+                format!("face {face} declares {corners} vertices but lists only {position} indices"),
+                "a face line is `n i1 ... in`: give exactly n vertex indices",
+            ));
+        };
+        let Ok(index) = token.parse::<i64>() else {
+            return Err(ParseError::new(
+                place,
+                format!("`{token}` is not a vertex index (vertex {position} of face {face})"),
+                "vertex indices are whole numbers counting from 0",
+            ));
+        };
+        if index < 0 {
+            return Err(ParseError::new(
+                place,
+                format!("face {face} refers to vertex {index}; OFF indices cannot be negative"),
+                "vertex indices of an OFF file count from 0",
+            ));
+        }
+        let index = usize::try_from(index).unwrap_or(usize::MAX);
+        if index >= vertex_count {
+            return Err(ParseError::new(
+                place,
+                format!("face {face} refers to vertex {index} but the file has {vertex_count} vertices"),
+                format!(
+                    "vertex indices of an OFF file count from 0; check the face and the vertex count on line {counts_number}"
+                ),
+            ));
+        }
+        polygon.push(to_u32(index, place)?);
+    }
+    Ok(polygon)
 }
 
 /// The letters before `OFF` in a header keyword (`""`, `"C"`, `"ST"`, ...), if the

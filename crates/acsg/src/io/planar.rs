@@ -8,6 +8,8 @@
 use glam::{DVec2, DVec3};
 
 use super::{MeshSoup, ParseError, Place};
+use crate::geometry::{Aabb, newell, shoelace};
+use crate::tolerance::{AREA_REL, COPLANAR_REL, DUPLICATE_FRACTION, NEGLIGIBLE, SIZE_FLOOR};
 
 /// One planar face of a CAD B-rep, in millimetres.
 #[derive(Clone, Debug)]
@@ -23,9 +25,6 @@ pub(crate) struct PlanarFace {
     /// Where the face is stated.
     pub place: Place,
 }
-
-/// Relative tolerance (times the model's size) for points on their face's plane.
-const PLANE_REL: f64 = 1e-6;
 
 /// How a B-spline (or Bézier) surface's control net lies: a rational or polynomial
 /// B-spline surface is an affine combination of its control points, so when they are
@@ -59,13 +58,9 @@ pub(crate) fn net_shape(net: &[Vec<DVec3>]) -> NetShape {
         }
     }
     let points: Vec<DVec3> = net.iter().flatten().copied().collect();
-    let (lo, hi) = points
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(*p), hi.max(*p))
-        });
-    let size = (hi - lo).length();
-    if !(size.is_finite() && size > 0.0) || normal.length() <= 1e-12 * size * size {
+    let bounds = Aabb::around(points.iter().copied());
+    let size = (bounds.max - bounds.min).length();
+    if !(size.is_finite() && size > 0.0) || normal.length() <= AREA_REL * size * size {
         return NetShape::Degenerate;
     }
     let n = normal.normalize();
@@ -104,16 +99,15 @@ pub(crate) fn line_deviation(points: &[DVec3]) -> (f64, f64) {
     (deviation, crate::tolerance::COPLANAR_REL * extent)
 }
 
-/// Newell's normal of a polygon (its length is twice the area), counter-clockwise
-/// order giving the normal the right-hand rule says.
-pub(crate) fn newell(points: &[DVec3]) -> DVec3 {
-    let n = points.len();
-    (0..n).map(|i| points[i].cross(points[(i + 1) % n])).sum::<DVec3>() / 2.0
+/// A polygon's area vector: its normal by the right-hand rule (counter-clockwise
+/// order), as long as its area.
+pub(crate) fn area_vector(points: &[DVec3]) -> DVec3 {
+    newell(points.iter().copied()) / 2.0
 }
 
+/// The signed area of a polygon in a plane (positive counter-clockwise).
 fn signed_area(points: &[DVec2]) -> f64 {
-    let n = points.len();
-    (0..n).map(|i| points[i].perp_dot(points[(i + 1) % n])).sum::<f64>() / 2.0
+    shoelace(points) / 2.0
 }
 
 /// Builds the soup from planar faces. When every face's normal points inward (the
@@ -125,23 +119,20 @@ fn signed_area(points: &[DVec2]) -> f64 {
 /// 3 distinct points, a zero normal, a point off the face's plane, or a face whose holes
 /// cannot be triangulated.
 pub(crate) fn soup_from_faces(mut faces: Vec<PlanarFace>, export_hint: &str) -> Result<MeshSoup, ParseError> {
-    let all = faces.iter().flat_map(|f| f.loops.iter().flatten().copied());
-    let (lo, hi) = all.fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
-        (lo.min(p), hi.max(p))
-    });
-    let size = if lo.x.is_finite() {
-        (hi - lo).length().max(1e-9)
+    let bounds = Aabb::around(faces.iter().flat_map(|f| f.loops.iter().flatten().copied()));
+    let size = if bounds.min.x.is_finite() {
+        (bounds.max - bounds.min).length().max(SIZE_FLOOR)
     } else {
         1.0
     };
-    let tolerance = PLANE_REL * size;
+    let tolerance = COPLANAR_REL * size;
 
     // Normalise loops and normals first; the orientation fix needs them all.
     for face in &mut faces {
         let bad =
             |problem: String| ParseError::new(face.place, problem, format!("the face is malformed; {export_hint}"));
         let length = face.normal.length();
-        if !length.is_finite() || length < 1e-300 {
+        if !length.is_finite() || length < NEGLIGIBLE {
             return Err(bad(format!("{}: its plane has a zero or invalid normal", face.name)));
         }
         face.normal /= length;
@@ -149,11 +140,11 @@ pub(crate) fn soup_from_faces(mut faces: Vec<PlanarFace>, export_hint: &str) -> 
             return Err(bad(format!("{}: it has no boundary loop", face.name)));
         }
         for l in &mut face.loops {
-            l.dedup_by(|a, b| a.distance(*b) <= tolerance * 1e-3);
+            l.dedup_by(|a, b| a.distance(*b) <= tolerance * DUPLICATE_FRACTION);
             while l.len() > 1
                 && l.first()
                     .zip(l.last())
-                    .is_some_and(|(a, b)| a.distance(*b) <= tolerance * 1e-3)
+                    .is_some_and(|(a, b)| a.distance(*b) <= tolerance * DUPLICATE_FRACTION)
             {
                 l.pop();
             }
@@ -221,6 +212,8 @@ fn outer_index(face: &PlanarFace, areas: &[f64]) -> usize {
     }
 }
 
+/// Adds one face to the soup: one polygon, or triangles over all its points when it
+/// has holes.
 fn add_face(
     soup: &mut MeshSoup,
     face: &PlanarFace,
@@ -236,35 +229,8 @@ fn add_face(
         .collect();
     let areas: Vec<f64> = flat.iter().map(|l| signed_area(l)).collect();
     let outer = outer_index(face, &areas.iter().map(|a| a.abs()).collect::<Vec<_>>());
-
-    // Every point must lie on one plane with this normal.
-    let offset = face.loops[outer].iter().map(|p| p.dot(normal)).sum::<f64>() / face.loops[outer].len() as f64;
-    for p in face.loops.iter().flatten() {
-        let off = (p.dot(normal) - offset).abs();
-        if off > tolerance {
-            return Err(ParseError::new(
-                face.place,
-                format!(
-                    "{}: the point ({}, {}, {}) is {off:.3e} mm off the face's plane",
-                    face.name, p.x, p.y, p.z
-                ),
-                format!("the face's edges do not lie on its plane; {export_hint}"),
-            ));
-        }
-    }
-
-    // Outer loop counter-clockwise around the normal, holes clockwise.
-    let mut loops: Vec<Vec<DVec3>> = Vec::with_capacity(face.loops.len());
-    let mut order = vec![outer];
-    order.extend((0..face.loops.len()).filter(|&k| k != outer));
-    for &k in &order {
-        let mut l = face.loops[k].clone();
-        let ccw = areas[k] > 0.0;
-        if ccw != (k == outer) {
-            l.reverse();
-        }
-        loops.push(l);
-    }
+    check_on_plane(face, outer, normal, tolerance, export_hint)?;
+    let loops = oriented_loops(face, outer, &areas);
     let line = match face.place {
         Place::Line(line) => Some(line),
         _ => None,
@@ -288,8 +254,71 @@ fn add_face(
         soup.polygon_lines.push(line);
         return Ok(());
     }
+    for t in triangulate_with_holes(face, &loops, (u, w), tolerance, export_hint)? {
+        let polygon = t
+            .iter()
+            .map(|&k| index(k))
+            .collect::<Result<Vec<u32>, _>>()
+            .map_err(|_| too_many())?;
+        soup.polygons.push(polygon);
+        soup.polygon_lines.push(line);
+    }
+    Ok(())
+}
 
-    // A face with holes: ear clipping over all its points.
+/// Every point of the face must lie on one plane with this normal (through the outer
+/// loop's mean point), within `tolerance`.
+fn check_on_plane(
+    face: &PlanarFace,
+    outer: usize,
+    normal: DVec3,
+    tolerance: f64,
+    export_hint: &str,
+) -> Result<(), ParseError> {
+    let offset = face.loops[outer].iter().map(|p| p.dot(normal)).sum::<f64>() / face.loops[outer].len() as f64;
+    for p in face.loops.iter().flatten() {
+        let off = (p.dot(normal) - offset).abs();
+        if off > tolerance {
+            return Err(ParseError::new(
+                face.place,
+                format!(
+                    "{}: the point ({}, {}, {}) is {off:.3e} mm off the face's plane",
+                    face.name, p.x, p.y, p.z
+                ),
+                format!("the face's edges do not lie on its plane; {export_hint}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The face's loops, the outer first and counter-clockwise around the normal, then the
+/// holes clockwise (`areas` are the loops' signed areas around the normal).
+fn oriented_loops(face: &PlanarFace, outer: usize, areas: &[f64]) -> Vec<Vec<DVec3>> {
+    let mut loops: Vec<Vec<DVec3>> = Vec::with_capacity(face.loops.len());
+    let mut order = vec![outer];
+    order.extend((0..face.loops.len()).filter(|&k| k != outer));
+    for &k in &order {
+        let mut l = face.loops[k].clone();
+        let ccw = areas[k] > 0.0;
+        if ccw != (k == outer) {
+            l.reverse();
+        }
+        loops.push(l);
+    }
+    loops
+}
+
+/// Triangles over all the points of a face with holes (indices into its loops' points
+/// in order), counter-clockwise around the normal: ear clipping in the plane basis
+/// `(u, w)`, then the points it dropped put back.
+fn triangulate_with_holes(
+    face: &PlanarFace,
+    loops: &[Vec<DVec3>],
+    (u, w): (DVec3, DVec3),
+    tolerance: f64,
+    export_hint: &str,
+) -> Result<Vec<[usize; 3]>, ParseError> {
     let mut coords = Vec::new();
     let mut holes = Vec::new();
     for (k, l) in loops.iter().enumerate() {
@@ -327,16 +356,7 @@ fn add_face(
         return Err(failed());
     }
     insert_dropped_points(&mut triangles, &points, tolerance);
-    for t in triangles {
-        let polygon = t
-            .iter()
-            .map(|&k| index(k))
-            .collect::<Result<Vec<u32>, _>>()
-            .map_err(|_| too_many())?;
-        soup.polygons.push(polygon);
-        soup.polygon_lines.push(line);
-    }
-    Ok(())
+    Ok(triangles)
 }
 
 /// Ear clipping drops loop points that lie on a straight run of their loop; the

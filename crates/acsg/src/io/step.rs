@@ -22,7 +22,7 @@
 //! plane, ...), curved edges (`CIRCLE`, ...) and solids with voids are refused, naming
 //! the instance (`#id` and type).
 //!
-//! Why not `truck-stepio` (0.3.0, the crate DOMAIN.md names): measured on this 2-core
+//! Why not `truck-stepio` (0.3.0, the crate the survey of dependencies named): measured on this 2-core
 //! machine, a clean build of it with the workspace's profile (dependencies at
 //! opt-level 2) costs about 270 s of CPU (255 s user + 14 s system; 54 s of CPU at
 //! opt-level 0) and about 100 crates (ruststep, truck-geometry, -modeling, -topology,
@@ -37,9 +37,10 @@ use std::io::Read;
 
 use glam::DVec3;
 
-use super::planar::{NetShape, PlanarFace, line_deviation, net_shape, newell, soup_from_faces};
+use super::planar::{NetShape, PlanarFace, area_vector, line_deviation, net_shape, soup_from_faces};
 use super::text::read_limited;
 use super::{MeshSoup, ParseError, Place};
+use crate::tolerance::{AREA_REL, COPLANAR_REL, JOIN_REL, ROUNDOFF_REL, WELD_REL, scaled};
 
 /// What every refusal suggests.
 const EXPORT_HINT: &str = "export the part as a planar (faceted) solid, e.g. STEP AP214 with planar faces, or as a mesh \
@@ -535,7 +536,7 @@ fn length_unit(instances: &HashMap<u64, Instance>) -> Result<f64, ParseError> {
     let mm = unit_mm(instances, first, 0)?;
     for &(other, line) in &ids[1..] {
         let other_mm = unit_mm(instances, other, 0)?;
-        if (other_mm - mm).abs() > 1e-12 * mm {
+        if (other_mm - mm).abs() > ROUNDOFF_REL * mm {
             return Err(ParseError::new(
                 Place::Line(line),
                 format!("the file declares two different length units (#{first} and #{other})"),
@@ -939,7 +940,7 @@ impl Model {
         let mut k = first;
         loop {
             let angle = step * k as f64;
-            if angle >= b - 1e-12 || points.len() > sides + 1 {
+            if angle >= b - ROUNDOFF_REL || points.len() > sides + 1 {
                 break;
             }
             points.push(circle.at(angle));
@@ -1003,7 +1004,7 @@ impl Model {
                 let end = self.vertex(self.reference(edge, e, eargs.get(2), "end vertex")?, (edge, e))?;
                 let curve = self.reference(edge, e, eargs.get(3), "curve")?;
                 match self.circle_of(curve, (edge, e), 0)? {
-                    Some(circle) if start.distance(end) <= 1e-9 * circle.radius.max(1.0) => {
+                    Some(circle) if start.distance(end) <= scaled(WELD_REL, circle.radius.max(1.0)) => {
                         circles.push((circle, start));
                     }
                     Some(_) => return Err(refuse("it is bounded by an arc, not a whole circle")),
@@ -1039,7 +1040,7 @@ impl Model {
             d.try_normalize().unwrap_or(DVec3::ZERO)
         };
         for (p, q) in ring_a.iter().zip(&ring_b) {
-            if about(*p).distance(about(*q)) > 1e-6 {
+            if about(*p).distance(about(*q)) > COPLANAR_REL {
                 return Err(refuse(
                     "its two circles do not start at the same angle about the axis (their seam is not straight)",
                 ));
@@ -1049,14 +1050,14 @@ impl Model {
         for k in 0..sides {
             let n = (k + 1) % sides;
             let quad = vec![ring_a[k], ring_a[n], ring_b[n], ring_b[k]];
-            let mut normal = newell(&quad);
+            let mut normal = area_vector(&quad);
             let centre = quad.iter().copied().sum::<DVec3>() / 4.0;
             if normal.dot((centre - origin).reject_from_normalized(axis)) < 0.0 {
                 normal = -normal;
             }
             // A cone's apex ring has no area: no facet there.
             let scale = a.radius.max(b.radius);
-            if normal.length() <= 1e-12 * scale * scale {
+            if normal.length() <= AREA_REL * scale * scale {
                 continue;
             }
             facets.push(PlanarFace {
@@ -1196,7 +1197,7 @@ impl Model {
             let mut chain = match (circle, self.facet) {
                 (Some(circle), Some(facet)) => {
                     let sense = !matches!(eargs.get(4), Some(Value::Enum(v)) if v == "F");
-                    let full = start.distance(end) <= 1e-9 * circle.radius.max(1.0);
+                    let full = start.distance(end) <= scaled(WELD_REL, circle.radius.max(1.0));
                     Self::arc_points(&circle, start, end, sense, facet.sides, full)
                 }
                 _ => {
@@ -1215,7 +1216,7 @@ impl Model {
         let size = points.iter().map(|p| p.abs().max_element()).fold(1.0, f64::max);
         for (k, (oe, o, end)) in ends.iter().enumerate() {
             let next = starts.get(k + 1).or(starts.first()).map_or(*end, |&i| points[i]);
-            if end.distance(next) > 1e-7 * size {
+            if end.distance(next) > JOIN_REL * size {
                 return Err(ParseError::new(
                     Place::Line(o.line),
                     format!("#{oe} ORIENTED_EDGE of loop #{id}: it ends where the next edge does not start"),

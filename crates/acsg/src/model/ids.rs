@@ -52,6 +52,36 @@ pub enum ElementId {
     Vertex(VertexId),
 }
 
+impl ElementId {
+    /// The element's dimension: 2 for a face, 1 for an edge, 0 for a vertex.
+    #[must_use]
+    pub fn dimension(self) -> u8 {
+        match self {
+            ElementId::Vertex(_) => 0,
+            ElementId::Edge(_) => 1,
+            ElementId::Face(_) => 2,
+        }
+    }
+
+    /// Whether the element is a face.
+    #[must_use]
+    pub fn is_face(self) -> bool {
+        matches!(self, ElementId::Face(_))
+    }
+
+    /// Whether the element is an edge.
+    #[must_use]
+    pub fn is_edge(self) -> bool {
+        matches!(self, ElementId::Edge(_))
+    }
+
+    /// Whether the element is a vertex.
+    #[must_use]
+    pub fn is_vertex(self) -> bool {
+        matches!(self, ElementId::Vertex(_))
+    }
+}
+
 impl fmt::Display for ElementId {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -99,6 +129,19 @@ mod tests {
         }
         for bad in ["", "f", "x3", "f-1", "f 3", "F3", "f3a", "f99999999999"] {
             assert!(bad.parse::<ElementId>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn dimension_and_kind_agree() {
+        let ids = [
+            ElementId::Vertex(VertexId(0)),
+            ElementId::Edge(EdgeId(0)),
+            ElementId::Face(FaceId(0)),
+        ];
+        for (d, id) in ids.into_iter().enumerate() {
+            assert_eq!(usize::from(id.dimension()), d);
+            assert_eq!([id.is_vertex(), id.is_edge(), id.is_face()], [d == 0, d == 1, d == 2]);
         }
     }
 

@@ -3,14 +3,14 @@
 use glam::DVec3;
 
 use super::ids::{EdgeId, ElementId, FaceId, VertexId};
-use crate::convex::ConvexPolytope;
+use crate::geometry::{Aabb, ConvexPolytope, winding_number};
 
 /// A vertex: a point where three or more faces meet.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Vertex {
     /// Position in the part's frame.
     pub position: DVec3,
-    /// Whether the solid is locally convex here (DOMAIN.md section 2).
+    /// Whether the solid is locally convex here (docs/concepts.md#elements).
     pub convex: bool,
     /// Incident edges, sorted.
     pub edges: Vec<EdgeId>,
@@ -75,44 +75,11 @@ impl Face {
     }
 }
 
-/// An axis-aligned bounding box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Aabb {
-    /// Smallest corner.
-    pub min: DVec3,
-    /// Largest corner.
-    pub max: DVec3,
-}
-
-impl Aabb {
-    /// The box around some points (empty input gives an inverted box at the origin).
-    #[must_use]
-    pub fn around(points: impl IntoIterator<Item = DVec3>) -> Aabb {
-        let mut it = points.into_iter();
-        let Some(first) = it.next() else {
-            return Aabb {
-                min: DVec3::ZERO,
-                max: DVec3::ZERO,
-            };
-        };
-        it.fold(Aabb { min: first, max: first }, |b, p| Aabb {
-            min: b.min.min(p),
-            max: b.max.max(p),
-        })
-    }
-
-    /// Length of the diagonal.
-    #[must_use]
-    pub fn diagonal(&self) -> f64 {
-        (self.max - self.min).length()
-    }
-}
-
 /// A validated polyhedral solid: faces (possibly non-convex, possibly with holes),
 /// edges, vertices, their adjacency and convexity, and an exact decomposition into
 /// convex pieces.
 ///
-/// Build one with [`Part::try_new`] or [`Part::from_path`].
+/// Build one with [`Part::try_new`] or [`Part::from_path`] (in [`crate::load`]).
 #[derive(Clone, Debug)]
 pub struct Part {
     pub(crate) name: String,
@@ -174,6 +141,21 @@ impl Part {
     #[must_use]
     pub fn volume(&self) -> f64 {
         self.volume
+    }
+    /// The generalised winding number of `q` with respect to the part's surface: 1
+    /// inside, 0 outside.
+    #[must_use]
+    pub fn winding_number(&self, q: DVec3) -> f64 {
+        let triangles = self.faces.iter().flat_map(|f| f.triangles.iter());
+        winding_number(triangles.map(|t| t.map(|v| self.vertex(v).position)), q)
+    }
+    /// Every element id: the faces, then the edges, then the vertices.
+    #[must_use]
+    pub fn elements(&self) -> Vec<ElementId> {
+        let faces = (0..self.faces.len() as u32).map(|i| ElementId::Face(FaceId(i)));
+        let edges = (0..self.edges.len() as u32).map(|i| ElementId::Edge(EdgeId(i)));
+        let vertices = (0..self.vertices.len() as u32).map(|i| ElementId::Vertex(VertexId(i)));
+        faces.chain(edges).chain(vertices).collect()
     }
     /// The two end points of an edge.
     #[must_use]
@@ -250,6 +232,17 @@ impl Part {
                 .iter()
                 .map(|&v| self.vertex(v).position)
                 .collect(),
+        }
+    }
+    /// Whether an element is convex: an edge or a vertex as classified
+    /// (docs/concepts.md#elements); a face always, since a contact's degeneracy and
+    /// stability depend on its edges and vertices only.
+    #[must_use]
+    pub fn is_convex(&self, e: ElementId) -> bool {
+        match e {
+            ElementId::Vertex(v) => self.vertex(v).convex,
+            ElementId::Edge(x) => self.edge(x).convex,
+            ElementId::Face(_) => true,
         }
     }
     /// Ids of the convex vertices.

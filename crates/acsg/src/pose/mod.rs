@@ -1,4 +1,4 @@
-//! Poses of the moving part and bounds on them (DOMAIN.md section 5).
+//! Poses of the moving part and bounds on them (docs/concepts.md#poses-and-bounds).
 //!
 //! A pose is `X = (x, y, z, rx, ry, rz)`, angles in radians. A point `p` of the moving
 //! part B maps into the frame of the fixed part A as
@@ -155,17 +155,13 @@ pub enum PoseError {
 /// poses, the assembled pose) must lie in `[-180°, 180°]`.
 pub const MAX_ANGLE_DEGREES: f64 = 180.0;
 
-/// Slack on [`MAX_ANGLE_DEGREES`] for angles given in radians, so that `3.1415927`
-/// (π rounded up in the 8th digit) still reads as a half turn.
-const RADIAN_SLACK: f64 = 1e-6;
-
 /// `true` when `value` (degrees, or radians when `degrees` is false) lies within ±180°.
 #[must_use]
 pub fn angle_in_range(value: f64, degrees: bool) -> bool {
     if degrees {
         value.abs() <= MAX_ANGLE_DEGREES
     } else {
-        value.abs() <= std::f64::consts::PI + RADIAN_SLACK
+        value.abs() <= std::f64::consts::PI + tolerance::RADIAN_SLACK
     }
 }
 

@@ -1,5 +1,5 @@
 //! An independent contact-state evaluator for the recall oracle: P(X) by the principal
-//! contact rule of DOMAIN.md section 3, read straight off the two parts' B-reps
+//! contact rule of docs/concepts.md#principal-contacts, read straight off the two parts' B-reps
 //! (vertex positions, edge end points, face loops and planes, convexity flags), with the
 //! robustness test of section 7. It shares nothing with `acsg::contact` but the id and
 //! kind types it reports in.
@@ -27,7 +27,7 @@ use glam::{DVec2, DVec3};
 
 /// A contact holds when its elements come this close, relative to L. The oracle's
 /// samples hold the contacts they are built on to round-off (about 1e-14 L), so this is
-/// kept well below the 1e-9 L of DOMAIN.md section 7: a pair that is only within
+/// kept well below the 1e-9 L of docs/concepts.md#tolerances: a pair that is only within
 /// 1e-9 L of touching is a near-coincidence (two nearly coplanar facets of U, say),
 /// where checkers with different rules can read different states, and a pair between
 /// this and the robustness gap makes the pose non-robust. At a robust pose every
@@ -351,7 +351,8 @@ impl<'a> Evaluator<'a> {
     }
 
     /// An evaluator whose contacts hold within `touch_rel · L` (1e-9 to read poses
-    /// found elsewhere, such as the generator's witnesses, as DOMAIN.md section 7 does).
+    /// found elsewhere, such as the generator's witnesses, as docs/concepts.md#tolerances
+    /// does).
     pub fn with_touch(fixed: &'a Part, moving: &'a Part, touch_rel: f64) -> Evaluator<'a> {
         let scale = fixed.bounds().diagonal().max(moving.bounds().diagonal());
         Evaluator {
@@ -421,8 +422,8 @@ impl<'a> Evaluator<'a> {
         out.join("\n")
     }
 
-    /// Whether a contact is degenerate (DOMAIN.md section 3), from the parts' own
-    /// convexity flags.
+    /// Whether a contact is degenerate (docs/concepts.md#degenerate-contacts), from the
+    /// parts' own convexity flags.
     pub fn degenerate(&self, c: &PrincipalContact) -> bool {
         use ContactKind::{EdgeEdgeTouch, EdgeVertex, VertexEdge, VertexVertex};
         matches!(c.kind, VertexVertex | EdgeVertex | VertexEdge | EdgeEdgeTouch)
@@ -611,7 +612,7 @@ impl<'a> Evaluator<'a> {
 
     /// An edge of one part against a face of the other, over the face's region: where
     /// both ends of a part of the edge over the open face lie within τ of the face's
-    /// plane, that part lies in it (DOMAIN.md section 7: an edge with two points within
+    /// plane, that part lies in it (docs/concepts.md#tolerances: an edge with two points within
     /// 1e-9 L of a face's plane lies in it wherever it overlaps the face); a part that
     /// reaches the plane and gets more than τ behind it and inside the face's outline
     /// dips into the other part.
@@ -801,7 +802,8 @@ impl<'a> Evaluator<'a> {
         if face.contains(p) { Cone::Full } else { Cone::Empty }
     }
 
-    /// The touching pairs that no other touching pair implies (DOMAIN.md section 3).
+    /// The touching pairs that no other touching pair implies
+    /// (docs/concepts.md#principal-contacts).
     fn principal(&self, touches: &[Touch], moving: &Placed) -> Vec<Touch> {
         touches
             .iter()
@@ -841,7 +843,7 @@ impl<'a> Evaluator<'a> {
     }
 
     /// A listed point contact must lie at least δ inside both its elements' relative
-    /// interiors (DOMAIN.md section 7).
+    /// interiors (docs/concepts.md#tolerances).
     fn point_contact_too_close_to_boundary(&self, principal: &[Touch], moving: &Placed) -> Option<String> {
         for t in principal {
             let Meet::Point(p) = t.meet else { continue };

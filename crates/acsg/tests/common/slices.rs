@@ -1,4 +1,4 @@
-//! A recall oracle by rotation slices (DOMAIN.md section 8).
+//! A recall oracle by rotation slices (docs/concepts.md#ground-truth).
 //!
 //! For a fixed rotation R, B touches A without penetrating exactly at the translations
 //! t on the boundary of U = ∪ M_ij, M_ij = P_i ⊕ (−R Q_j), over the convex pieces P_i

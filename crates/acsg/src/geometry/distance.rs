@@ -1,4 +1,4 @@
-//! Pairwise distance queries between placed surface elements.
+//! Distances between points, segments (edges) and planar regions (faces).
 //!
 //! Exact Euclidean distances (up to floating-point rounding) between segments (edges),
 //! points (vertices) and planar polygons with holes (faces), in the style of parry's
@@ -263,22 +263,6 @@ pub fn region_region(r1: &PlanarRegion<'_>, r2: &PlanarRegion<'_>) -> f64 {
         best = best.min(segment_region(&seg, r1));
     }
     best
-}
-
-/// The part of a convex polygon where `n · p <= d`.
-pub(crate) fn clip_convex(poly: &[DVec3], n: DVec3, d: f64) -> Vec<DVec3> {
-    let mut out = Vec::with_capacity(poly.len() + 1);
-    for (i, &p) in poly.iter().enumerate() {
-        let q = poly[(i + 1) % poly.len()];
-        let (sp, sq) = (n.dot(p) - d, n.dot(q) - d);
-        if sp <= 0.0 {
-            out.push(p);
-        }
-        if (sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0) {
-            out.push(p + (q - p) * (sp / (sp - sq)));
-        }
-    }
-    out
 }
 
 #[cfg(test)]

@@ -1,24 +1,9 @@
-//! Convex polytopes and the exact decomposition of a part into convex pieces.
-//!
-//! The decomposition is a binary space partition of the part's bounding box by planes
-//! of the part's own faces, so every piece is exact (no approximation such as VHACD):
-//! - while a concave edge passes through a cell's interior, the cell is cut by the
-//!   plane of one of that edge's faces;
-//! - a cell crossed by no concave edge holds convex components only; if the faces
-//!   crossing it bound one component, that component is the cell clipped by their
-//!   half-spaces (a piece); otherwise the cell is cut by the plane of a face that
-//!   separates two components;
-//! - a cell crossed by no face is wholly inside or wholly outside (decided by the
-//!   winding number of its centroid).
-//!
-//! Every cut is by the plane of a face crossing the cell, which leaves that face on the
-//! children's boundaries, so the recursion ends after at most one cut per face.
-
-use std::collections::BTreeMap;
+//! Bounded convex polytopes: as planes with their face polygons and as corners, with
+//! clipping by a half-space (the step of the exact convex decomposition).
 
 use glam::DVec3;
 
-use crate::model::{FaceId, Part};
+use super::weld::weld;
 
 /// A planar convex polygon bounding a [`ConvexPolytope`].
 #[derive(Clone, Debug, PartialEq)]
@@ -82,25 +67,13 @@ impl ConvexPolytope {
                 [c(a.x, a.y, b.z), c(b.x, a.y, b.z), c(b.x, b.y, b.z), c(a.x, b.y, b.z)],
             ),
         ];
-        let mut polytope = ConvexPolytope {
-            faces,
-            vertices: Vec::new(),
-        };
-        polytope.collect_vertices(0.0);
-        polytope
+        ConvexPolytope::from_faces(faces, 0.0)
     }
 
-    /// A convex part's own faces as a polytope (the part must have no concave edge).
-    fn from_part_faces(part: &Part, eps: f64) -> ConvexPolytope {
-        let faces: Vec<ConvexFace> = part
-            .faces()
-            .iter()
-            .map(|f| ConvexFace {
-                normal: f.normal,
-                offset: f.offset,
-                points: f.outer().vertices.iter().map(|&v| part.vertex(v).position).collect(),
-            })
-            .collect();
+    /// The polytope bounded by `faces` (the faces of a convex solid, each with its
+    /// corners); corners closer than `eps` are one vertex.
+    #[must_use]
+    pub fn from_faces(faces: Vec<ConvexFace>, eps: f64) -> ConvexPolytope {
         let mut polytope = ConvexPolytope {
             faces,
             vertices: Vec::new(),
@@ -170,7 +143,7 @@ impl ConvexPolytope {
         let mut faces = Vec::with_capacity(self.faces.len() + 1);
         let mut cap = Vec::new();
         for face in &self.faces {
-            let kept = clip_polygon(&face.points, &side, &mut cap);
+            let kept = clip_polygon(&face.points, side, |p| cap.push(p));
             if kept.len() >= 3 {
                 faces.push(ConvexFace {
                     normal: face.normal,
@@ -210,8 +183,12 @@ impl ConvexPolytope {
 }
 
 /// Sutherland–Hodgman step: the part of a convex polygon with `side <= 0`; points on
-/// the plane are also pushed to `on_plane`.
-fn clip_polygon(points: &[DVec3], side: &impl Fn(DVec3) -> f64, on_plane: &mut Vec<DVec3>) -> Vec<DVec3> {
+/// the plane (kept corners and new crossings) are also passed to `on_plane`.
+pub(crate) fn clip_polygon(
+    points: &[DVec3],
+    side: impl Fn(DVec3) -> f64,
+    mut on_plane: impl FnMut(DVec3),
+) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(points.len() + 1);
     for (i, &p) in points.iter().enumerate() {
         let q = points[(i + 1) % points.len()];
@@ -219,20 +196,26 @@ fn clip_polygon(points: &[DVec3], side: &impl Fn(DVec3) -> f64, on_plane: &mut V
         if sp <= 0.0 {
             out.push(p);
             if sp == 0.0 {
-                on_plane.push(p);
+                on_plane(p);
             }
         }
         if (sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0) {
             let x = p + (q - p) * (sp / (sp - sq));
             out.push(x);
-            on_plane.push(x);
+            on_plane(x);
         }
     }
     out
 }
 
+/// The part of a convex polygon where `n · p <= d`.
+pub(crate) fn clip_convex(poly: &[DVec3], n: DVec3, d: f64) -> Vec<DVec3> {
+    clip_polygon(poly, |p| n.dot(p) - d, |_| {})
+}
+
+/// The points with those closer than `eps` merged.
 fn dedup_points(points: Vec<DVec3>, eps: f64) -> Vec<DVec3> {
-    crate::topology::weld(&points, eps).0
+    weld(&points, eps).0
 }
 
 /// Orders coplanar points of a convex polygon counter-clockwise around `normal`.
@@ -252,154 +235,6 @@ fn order_convex(points: Vec<DVec3>, normal: DVec3) -> Vec<DVec3> {
         .collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
     keyed.into_iter().map(|(_, p)| p).collect()
-}
-
-/// A triangle of the part's surface, with the face it belongs to.
-#[derive(Clone, Copy)]
-struct SurfaceTriangle {
-    face: FaceId,
-    corners: [DVec3; 3],
-}
-
-/// The generalised winding number of `q` with respect to the part's closed surface:
-/// 1 inside, 0 outside (Van Oosterom–Strackee solid angles).
-#[must_use]
-pub fn winding_number(part: &Part, q: DVec3) -> f64 {
-    let total: f64 = surface_triangles(part)
-        .map(|t| {
-            let [a, b, c] = t.corners.map(|p| p - q);
-            let (la, lb, lc) = (a.length(), b.length(), c.length());
-            let numerator = a.dot(b.cross(c));
-            let denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-            2.0 * numerator.atan2(denominator)
-        })
-        .sum();
-    total / (4.0 * std::f64::consts::PI)
-}
-
-fn surface_triangles(part: &Part) -> impl Iterator<Item = SurfaceTriangle> + '_ {
-    part.faces().iter().enumerate().flat_map(move |(i, f)| {
-        f.triangles.iter().map(move |t| SurfaceTriangle {
-            face: FaceId(i as u32),
-            corners: t.map(|v| part.vertex(v).position),
-        })
-    })
-}
-
-/// The part of a triangle strictly inside a cell (deeper than `depth`): its centroid
-/// and area, if any.
-fn inside_part(cell: &ConvexPolytope, corners: &[DVec3; 3], depth: f64) -> Option<(DVec3, f64)> {
-    let mut poly = corners.to_vec();
-    let mut scratch = Vec::new();
-    for f in cell.faces() {
-        let side = |p: DVec3| f.normal.dot(p) - (f.offset - depth);
-        poly = clip_polygon(&poly, &side, &mut scratch);
-        if poly.len() < 3 {
-            return None;
-        }
-    }
-    let normal2 = poly
-        .windows(2)
-        .skip(1)
-        .map(|w| (w[0] - poly[0]).cross(w[1] - poly[0]))
-        .sum::<DVec3>();
-    let area = 0.5 * normal2.length();
-    (area > depth * depth).then(|| (poly.iter().sum::<DVec3>() / poly.len() as f64, area))
-}
-
-/// Whether part of a segment lies strictly inside a cell (deeper than `depth`).
-fn segment_inside(cell: &ConvexPolytope, [mut a, mut b]: [DVec3; 2], depth: f64) -> bool {
-    for f in cell.faces() {
-        let (sa, sb) = (
-            f.normal.dot(a) - (f.offset - depth),
-            f.normal.dot(b) - (f.offset - depth),
-        );
-        match (sa > 0.0, sb > 0.0) {
-            (true, true) => return false,
-            (true, false) => a += (b - a) * (sa / (sa - sb)),
-            (false, true) => b = a + (b - a) * (sa / (sa - sb)),
-            (false, false) => {}
-        }
-    }
-    a.distance(b) > depth
-}
-
-/// Decomposes a part exactly into convex pieces with disjoint interiors whose union is
-/// the part.
-#[must_use]
-pub fn decompose(part: &Part) -> Vec<ConvexPolytope> {
-    let scale = part.bounds().diagonal();
-    let eps = crate::tolerance::scaled(crate::tolerance::WELD_REL, scale);
-    let depth = crate::tolerance::scaled(crate::tolerance::COPLANAR_REL, scale) * 0.1;
-    let triangles: Vec<SurfaceTriangle> = surface_triangles(part).collect();
-    let concave: Vec<_> = (0..part.edges().len() as u32)
-        .map(crate::model::EdgeId)
-        .filter(|&e| !part.edge(e).convex)
-        .collect();
-    if concave.is_empty() {
-        // Connected and locally convex everywhere: the part is its own single piece.
-        return vec![ConvexPolytope::from_part_faces(part, eps)];
-    }
-    let bounds = part.bounds();
-    let mut pieces = Vec::new();
-    let mut stack = vec![(
-        ConvexPolytope::cuboid(bounds.min, bounds.max),
-        (0..triangles.len()).collect::<Vec<_>>(),
-    )];
-    while let Some((cell, candidates)) = stack.pop() {
-        // Faces crossing the cell, each with a point of it inside the cell.
-        let mut crossing: BTreeMap<FaceId, (f64, DVec3)> = BTreeMap::new();
-        let mut inside = Vec::new();
-        for &t in &candidates {
-            if let Some((point, area)) = inside_part(&cell, &triangles[t].corners, depth) {
-                inside.push(t);
-                let entry = crossing.entry(triangles[t].face).or_insert((0.0, point));
-                if area > entry.0 {
-                    *entry = (area, point);
-                }
-            }
-        }
-        if crossing.is_empty() {
-            if winding_number(part, cell.center()) > 0.5 {
-                pieces.push(cell);
-            }
-            continue;
-        }
-        let plane = |f: FaceId| (part.face(f).normal, part.face(f).offset);
-        let concave_cut = concave
-            .iter()
-            .find(|&&e| segment_inside(&cell, part.edge_points(e), depth))
-            .map(|&e| part.edge(e).faces[0]);
-        let cut = match concave_cut {
-            Some(face) => face,
-            None => {
-                // One convex component, unless a face's point lies outside another
-                // face's half-space (then that face separates two components).
-                let separating = crossing.iter().find_map(|(&f, &(_, p))| {
-                    crossing
-                        .keys()
-                        .find(|&&g| g != f && part.face(g).signed_distance(p) > depth)
-                        .copied()
-                });
-                match separating {
-                    Some(face) => face,
-                    None => {
-                        let piece = crossing.keys().try_fold(cell.clone(), |c, &f| {
-                            let (n, d) = plane(f);
-                            c.clip(n, d, eps)
-                        });
-                        pieces.extend(piece);
-                        continue;
-                    }
-                }
-            }
-        };
-        let (n, d) = plane(cut);
-        for child in [cell.clip(n, d, eps), cell.clip(-n, -d, eps)].into_iter().flatten() {
-            stack.push((child, inside.clone()));
-        }
-    }
-    pieces
 }
 
 #[cfg(test)]
