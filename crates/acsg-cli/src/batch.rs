@@ -8,7 +8,7 @@ use acsg::task::Task;
 use anyhow::Context;
 
 use crate::args::{RunFlags, UsageError};
-use crate::dispatch::run_task;
+use crate::generate::run_task;
 use crate::progress::batch_bar;
 
 /// The options of `acsg batch`.

@@ -14,9 +14,9 @@ use acsg::units::LengthUnit;
 use anyhow::Context;
 use glam::DAffine3;
 
-use crate::args::{Cli, Command, ExportFormat, RunFlags, UnitsFlag, UsageError, check_facet};
+use crate::args::{Cli, Command, ExportFormat, RunFlags, UnitsFlag, UsageError};
 use crate::batch::{BatchFlags, run_batch};
-use crate::generate::{Job, generate_and_write};
+use crate::generate::{Job, generate_and_write, load_pair, run_task, units_label};
 use crate::print::{ContactsAtPose, Shown, print_contacts, print_inspection};
 
 /// Runs one command line.
@@ -99,19 +99,6 @@ fn parse_pose(flag: &str, text: &str, angles: Angles) -> anyhow::Result<Pose> {
     Pose::parse_checked(text, degrees).map_err(|e| UsageError(format!("invalid {flag}: {e}")).into())
 }
 
-/// Both parts of a run, read in `unit` (STEP curves faceted within `facet`), and the
-/// label of the run's lengths.
-fn load_pair(
-    paths: [&Path; 2],
-    unit: Option<LengthUnit>,
-    facet: Option<f64>,
-) -> anyhow::Result<((Part, Part), String)> {
-    let (fixed, fixed_format) = Part::from_path_with(paths[0], unit, facet)?;
-    let (moving, moving_format) = Part::from_path_with(paths[1], unit, facet)?;
-    let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
-    Ok(((fixed, moving), length))
-}
-
 /// `acsg inspect`: one part's B-rep, or two parts' and their card(PPC).
 fn inspect(fixed: &Path, moving: Option<&Path>, units: &UnitsFlag, json: bool) -> anyhow::Result<()> {
     let (unit, facet) = (units.units, units.facet()?);
@@ -167,28 +154,6 @@ fn generate(
     generate_and_write(parts, job, run, None)
 }
 
-/// Generates the graph of a task read from its file and writes it (`acsg run`, and
-/// each task of `acsg batch`).
-pub(crate) fn run_task(
-    job: Task,
-    units: Option<LengthUnit>,
-    facet: Option<f64>,
-    run: RunFlags,
-    default_output: PathBuf,
-) -> anyhow::Result<()> {
-    let unit = units.or(job.units);
-    let facet = check_facet(facet.or(job.facet))?;
-    let (parts, length) = load_pair([&job.fixed, &job.moving], unit, facet)?;
-    let run_job = Job {
-        names: [job.fixed_given, job.moving_given],
-        bounds: job.bounds,
-        options: job.options,
-        length,
-        facet,
-    };
-    generate_and_write(parts, run_job, run, Some(default_output))
-}
-
 /// `acsg demo`: the paper's example, built in.
 fn demo(run: RunFlags) -> anyhow::Result<()> {
     let parts = acsg::examples::l_block_and_box();
@@ -229,14 +194,4 @@ fn export(graph: &Path, format: ExportFormat, output: Option<&Path>) -> anyhow::
         None => std::io::stdout().lock().write_all(text.as_bytes())?,
     }
     Ok(())
-}
-
-/// The label of a run's lengths: the unit given, else `mm` when every part is a CAD
-/// file (read in millimetres), else "model units".
-fn units_label(unit: Option<LengthUnit>, formats: &[Option<acsg::io::Format>]) -> String {
-    match unit {
-        Some(unit) => unit.symbol().to_string(),
-        None if formats.iter().flatten().all(|f| f.is_cad()) => LengthUnit::Mm.symbol().to_string(),
-        None => acsg::units::UNSPECIFIED.to_string(),
-    }
 }

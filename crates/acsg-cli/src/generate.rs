@@ -3,15 +3,17 @@
 //! the graph written with its summary.
 
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use acsg::export::GraphFile;
 use acsg::graph::{Document, Graph, Options, generate_with_progress};
 use acsg::model::Part;
 use acsg::pose::Bounds;
+use acsg::task::Task;
+use acsg::units::LengthUnit;
 use anyhow::Context;
 
-use crate::args::{RunFlags, UsageError};
+use crate::args::{RunFlags, UsageError, check_facet};
 use crate::print::summary;
 use crate::progress::GenerationBar;
 
@@ -120,4 +122,49 @@ fn write_outputs(document: &Document, output: Option<&PathBuf>, html: Option<&Pa
         messages.push_str(&format!("wrote {}\n", path.display()));
     }
     Ok(messages)
+}
+
+/// Both parts of a run, read in `unit` (STEP curves faceted within `facet`), and the
+/// label of the run's lengths.
+pub(crate) fn load_pair(
+    paths: [&Path; 2],
+    unit: Option<LengthUnit>,
+    facet: Option<f64>,
+) -> anyhow::Result<((Part, Part), String)> {
+    let (fixed, fixed_format) = Part::from_path_with(paths[0], unit, facet)?;
+    let (moving, moving_format) = Part::from_path_with(paths[1], unit, facet)?;
+    let length = units_label(unit, &[Some(fixed_format), Some(moving_format)]);
+    Ok(((fixed, moving), length))
+}
+
+/// Generates the graph of a task read from its file and writes it (`acsg run`, and
+/// each task of `acsg batch`).
+pub(crate) fn run_task(
+    job: Task,
+    units: Option<LengthUnit>,
+    facet: Option<f64>,
+    run: RunFlags,
+    default_output: PathBuf,
+) -> anyhow::Result<()> {
+    let unit = units.or(job.units);
+    let facet = check_facet(facet.or(job.facet))?;
+    let (parts, length) = load_pair([&job.fixed, &job.moving], unit, facet)?;
+    let run_job = Job {
+        names: [job.fixed_given, job.moving_given],
+        bounds: job.bounds,
+        options: job.options,
+        length,
+        facet,
+    };
+    generate_and_write(parts, run_job, run, Some(default_output))
+}
+
+/// The label of a run's lengths: the unit given, else `mm` when every part is a CAD
+/// file (read in millimetres), else "model units".
+pub(crate) fn units_label(unit: Option<LengthUnit>, formats: &[Option<acsg::io::Format>]) -> String {
+    match unit {
+        Some(unit) => unit.symbol().to_string(),
+        None if formats.iter().flatten().all(|f| f.is_cad()) => LengthUnit::Mm.symbol().to_string(),
+        None => acsg::units::UNSPECIFIED.to_string(),
+    }
 }
