@@ -106,6 +106,28 @@ impl<'a> Store<'a> {
         contacts.iter().any(|pc| pc.degenerate(self.fixed, self.moving))
     }
 
+    /// Counts one outcome of growing `state` by a contact and whether it is a new
+    /// candidate to decide: not the state itself, not left out as degenerate, neither
+    /// known nor already proposed in this round (`proposed` gains it).
+    pub fn admit(
+        &mut self,
+        target: &[PrincipalContact],
+        state: &[PrincipalContact],
+        proposed: &mut BTreeSet<Vec<PrincipalContact>>,
+    ) -> bool {
+        if target == state {
+            self.stats.pruned_implied += 1;
+        } else if self.leaves_out(target) {
+            self.stats.pruned_degenerate += 1;
+        } else if !self.is_seen(target) && proposed.insert(target.to_vec()) {
+            self.stats.stage2_candidates += 1;
+            return true;
+        } else {
+            self.stats.pruned_duplicate += 1;
+        }
+        false
+    }
+
     /// Whether the run leaves a state out for holding a degenerate contact.
     pub fn leaves_out(&self, contacts: &[PrincipalContact]) -> bool {
         !self.options.degenerate && self.is_degenerate(contacts)

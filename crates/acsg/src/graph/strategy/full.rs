@@ -217,15 +217,8 @@ fn candidates(store: &mut Store<'_>, grown: &mut Vec<usize>) -> Vec<Candidate> {
                 store.stats.pruned_topology += 1;
             }
             for target in targets {
-                if target == state {
-                    store.stats.pruned_implied += 1;
-                } else if store.leaves_out(&target) {
-                    store.stats.pruned_degenerate += 1;
-                } else if !store.is_seen(&target) && proposed.insert(target.clone()) {
-                    store.stats.stage2_candidates += 1;
+                if store.admit(&target, &state, &mut proposed) {
                     out.push(Candidate { target, parent, added });
-                } else {
-                    store.stats.pruned_duplicate += 1;
                 }
             }
         }
