@@ -161,7 +161,7 @@ impl Problem<'_> {
     #[must_use]
     pub fn exclusion(&self, target: &[PrincipalContact], bounds: &Bounds) -> Option<Rule> {
         match self.conditions(target) {
-            Ok(conditions) => self.exclude(target, &conditions, Mode::All, bounds).err(),
+            Ok(conditions) => self.exclude(target, &conditions, Mode::All, bounds, true).err(),
             Err(rule) => Some(rule),
         }
     }
@@ -368,7 +368,7 @@ impl Problem<'_> {
             };
             branching.examined += 1;
             stats.boxes += 1;
-            let narrowed = match self.exclude(target, links, mode, &b) {
+            let narrowed = match self.exclude(target, links, mode, &b, true) {
                 Err(rule) => {
                     branching.rules.insert(rule);
                     continue;
@@ -433,7 +433,7 @@ impl Problem<'_> {
             let mut excluded = 0;
             let mut left = 0.0;
             for half in halves(b, k) {
-                match self.exclude(target, links, mode, &half) {
+                match self.exclude(target, links, mode, &half, false) {
                     Err(_) => excluded += 1,
                     Ok(narrowed) => {
                         let w = narrowed.width();
@@ -467,10 +467,26 @@ impl Problem<'_> {
 
     /// The exclusion tests of one box: the box narrowed by propagation when none
     /// excludes it.
-    fn exclude(&self, target: &[PrincipalContact], links: &Conditions, mode: Mode, b: &Bounds) -> Result<Bounds, Rule> {
-        if !links.turns.may_hold(b) {
+    /// With `shave`, the box's angles are first cut down to where the rotation
+    /// conditions may hold ([`Turns::shave`]); the look-ahead's trial halves only test
+    /// them.
+    fn exclude(
+        &self,
+        target: &[PrincipalContact],
+        links: &Conditions,
+        mode: Mode,
+        b: &Bounds,
+        shave: bool,
+    ) -> Result<Bounds, Rule> {
+        let shaved;
+        let b = if shave {
+            shaved = links.turns.shave(b).ok_or(Rule::Orientation)?;
+            &shaved
+        } else if links.turns.may_hold(b) {
+            b
+        } else {
             return Err(Rule::Orientation);
-        }
+        };
         let narrowed = self.prover.narrow(&links.links, b).ok_or(Rule::Propagation)?;
         if mode == Mode::Rotations {
             // The Lipschitz tests need small translation boxes too.

@@ -256,22 +256,7 @@ impl<'a> Prover<'a> {
     /// contradictory without looking at poses.
     pub fn links(&self, target: &[PrincipalContact]) -> Option<Links> {
         let links = self.link_list(target)?;
-        // A pair touches where a listed contact does when each element holds the
-        // contact's element on its side (a face around a touching vertex), or, for a
-        // contact along a segment or an area, lies in its closure (an edge's end on the
-        // face it lies in).
-        let implied = |a: ElementId, b: ElementId| {
-            target.iter().any(|pc| {
-                let region = matches!(
-                    pc.kind,
-                    ContactKind::FaceFace | ContactKind::FaceEdge | ContactKind::EdgeFace | ContactKind::EdgeEdgeTouch
-                );
-                let holds = |part: &Part, x: ElementId, y: ElementId| {
-                    part.in_closure(y, x) || (region && part.in_closure(x, y))
-                };
-                holds(self.fixed, pc.fixed, a) && holds(self.moving, pc.moving, b)
-            })
-        };
+        let implied = |a: ElementId, b: ElementId| implied(self.fixed, self.moving, target, a, b);
         let mut apart = Vec::new();
         for face in 0..self.fixed.faces().len() {
             for vertex in 0..self.moving.vertices().len() {
@@ -771,6 +756,23 @@ impl<'a> Prover<'a> {
 }
 
 /// A box with its translation intervals replaced (they only ever narrow inside it).
+/// Whether the pair (`a` of the fixed part, `b` of the moving part) touches wherever
+/// the target's contacts hold, so a witness need not keep it apart: each element holds
+/// a contact's element on its side (a face around a touching vertex), or, for a contact
+/// along a segment or an area, lies in its closure (an edge's end on the face it lies
+/// in).
+pub(crate) fn implied(fixed: &Part, moving: &Part, target: &[PrincipalContact], a: ElementId, b: ElementId) -> bool {
+    target.iter().any(|pc| {
+        let region = matches!(
+            pc.kind,
+            ContactKind::FaceFace | ContactKind::FaceEdge | ContactKind::EdgeFace | ContactKind::EdgeEdgeTouch
+        );
+        let holds =
+            |part: &Part, x: ElementId, y: ElementId| part.in_closure(y, x) || (region && part.in_closure(x, y));
+        holds(fixed, pc.fixed, a) && holds(moving, pc.moving, b)
+    })
+}
+
 fn with_translation(bounds: &Bounds, t: &IVec) -> Bounds {
     let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
     for k in 0..3 {

@@ -13,6 +13,7 @@ use glam::DVec3;
 
 use super::Problem;
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
+use super::prover::implied;
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::Aabb;
 use crate::model::{ElementId, FaceId, Part};
@@ -36,6 +37,9 @@ struct Wedge {
     on_a: Vec<(DVec3, DVec3)>,
     on_b: Vec<(DVec3, DVec3)>,
     slack: f64,
+    /// The components of `n = d_e × R d_x` (values `n · (R d)`), when the slack holds
+    /// for the unit normal `n / |n|` rather than for `n` (see [`Wedge::sides`]).
+    normal: Option<[(DVec3, DVec3); 3]>,
 }
 
 /// Two edges whose directions must not be parallel within `least`: some component of
@@ -66,6 +70,11 @@ struct Flush {
 /// (half the separation) to the contact point. Four times their ratio, for safety.
 const LEVER_SLACK: f64 = 4.0 * CONTACT_REL / (0.5 * SEPARATION_REL);
 
+/// Slabs tried from each end of an angle's range by [`Turns::shave`], at most.
+const SHAVE_STEPS: usize = 24;
+/// The thinnest slab [`Turns::shave`] tries, as a share of what is left.
+const SHAVE_LEAST: f64 = 1.0 / 64.0;
+
 /// The rotation-only conditions of a target, prepared once for many boxes.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Turns {
@@ -89,10 +98,34 @@ fn value(r: &IntervalMat, n: DVec3, d: DVec3) -> Interval {
 
 impl Wedge {
     /// Whether some side may separate, and whether one certainly does.
+    ///
+    /// Where the plane does not separate them, the wedges overlap on one side of the
+    /// crossing, by the distance the edges have drawn apart there times how far
+    /// (a sine) a face turns past the plane, up to the nearest end of either edge. A
+    /// witness penetrates by at most the contact tolerance, so with `n` unnormalised
+    /// (the sine of the angle between the edges times the unit normal) the slack is
+    /// that tolerance over the shortest distance an end may have from the crossing.
+    /// When the ends of both edges must also stay the separation away from the other
+    /// edge (no contact of the target implies those pairs), the edges have drawn at
+    /// least the separation apart at that end, so a face may turn past the plane by at
+    /// most the tolerance over the separation: the slack holds for the unit normal, and
+    /// near-parallel edges no longer pass every test.
     fn sides(&self, r: &IntervalMat) -> (bool, bool) {
         let a: Vec<Interval> = self.on_a.iter().map(|&(n, d)| value(r, n, d)).collect();
         let b: Vec<Interval> = self.on_b.iter().map(|&(n, d)| value(r, n, d)).collect();
-        let s = self.slack;
+        let s = self.normal.map_or(self.slack, |components| {
+            // |n| at most, over the box.
+            let length = components
+                .iter()
+                .map(|&(n, d)| {
+                    let v = value(r, n, d);
+                    v.lo.abs().max(v.hi.abs())
+                })
+                .map(|m| m * m)
+                .sum::<f64>()
+                .sqrt();
+            self.slack * length.min(1.0)
+        });
         let may = |sign: f64| {
             a.iter().all(|v| if sign > 0.0 { v.lo <= s } else { v.hi >= -s })
                 && b.iter().all(|v| if sign > 0.0 { v.hi >= -s } else { v.lo <= s })
@@ -130,6 +163,47 @@ impl Turns {
                 });
                 !flush || f.side.is_some_and(|(u, w)| value(&r, u, w).hi <= 0.0)
             })
+    }
+
+    /// The box with its angle ranges cut down to where the conditions may hold
+    /// (`None`: nowhere). From each end of each angle's range, slabs are cut off while
+    /// no rotation in them meets the conditions, each half of what is left, then
+    /// thinner ones: a face on a face pins two angles to a thin range that splitting
+    /// alone reaches only after many levels.
+    pub fn shave(&self, b: &Bounds) -> Option<Bounds> {
+        if !self.may_hold(b) {
+            return None;
+        }
+        if self.turns.is_empty() && self.wedges.is_empty() && self.flush.is_empty() {
+            return Some(*b);
+        }
+        let (mut lo, mut hi) = (b.min.to_array(), b.max.to_array());
+        let holds_within = |lo: &[f64; 6], hi: &[f64; 6]| Bounds::try_new(*lo, *hi).is_ok_and(|s| self.may_hold(&s));
+        for k in 3..6 {
+            for from_below in [true, false] {
+                let mut share = 0.5;
+                for _ in 0..SHAVE_STEPS {
+                    let width = hi[k] - lo[k];
+                    if width <= 0.0 || share < SHAVE_LEAST {
+                        break;
+                    }
+                    let (mut slab_lo, mut slab_hi) = (lo, hi);
+                    if from_below {
+                        slab_hi[k] = lo[k] + share * width;
+                    } else {
+                        slab_lo[k] = hi[k] - share * width;
+                    }
+                    if holds_within(&slab_lo, &slab_hi) {
+                        share *= 0.25;
+                    } else if from_below {
+                        lo[k] = slab_hi[k];
+                    } else {
+                        hi[k] = slab_lo[k];
+                    }
+                }
+            }
+        }
+        Bounds::try_new(lo, hi).ok()
     }
 
     /// The angle (3, 4 or 5) to split a box along: the one the undecided conditions
@@ -190,12 +264,12 @@ impl Problem<'_> {
     pub(crate) fn turns(&self, target: &[PrincipalContact]) -> Turns {
         let mut turns = Turns::default();
         for pc in target {
-            self.add_turns(pc, &mut turns);
+            self.add_turns(pc, target, &mut turns);
         }
         turns
     }
 
-    fn add_turns(&self, pc: &PrincipalContact, out: &mut Turns) {
+    fn add_turns(&self, pc: &PrincipalContact, target: &[PrincipalContact], out: &mut Turns) {
         // A contact holds to the contact tolerance: an edge of length ℓ lies in a face
         // when its ends are that close to the plane, so its direction may be off the
         // plane by (tolerance / ℓ); ten times that, as the prover allows.
@@ -348,6 +422,20 @@ impl Problem<'_> {
                 // separates the parts' wedges: with n = e × R x and s = ±1, A's in-face
                 // directions u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both
                 // are linear in R: n·u = (u × e)·(R x), n·(R v) = e·R(x × v).
+                // Each end of either edge against the other edge: a pair kept apart
+                // unless a contact of the target implies it.
+                let ends_apart = self
+                    .fixed
+                    .edge(e)
+                    .vertices
+                    .iter()
+                    .all(|&v| !implied(self.fixed, self.moving, target, ElementId::Vertex(v), pc.moving))
+                    && self
+                        .moving
+                        .edge(x)
+                        .vertices
+                        .iter()
+                        .all(|&v| !implied(self.fixed, self.moving, target, pc.fixed, ElementId::Vertex(v)));
                 out.wedges.push(Wedge {
                     on_a: self
                         .fixed
@@ -364,6 +452,7 @@ impl Problem<'_> {
                     // edge crossing the other's at a grazing angle). Four times it,
                     // for safety.
                     slack: tilt(le.min(lx)).max(LEVER_SLACK),
+                    normal: ends_apart.then_some(components),
                 });
             }
             (a, b) => {
@@ -455,5 +544,58 @@ mod tests {
         let only_crossing = [contact("e10", "e10", K::EdgeEdge)];
         let turns = problem.turns(&only_crossing);
         assert!(turns.wedges.iter().any(|w| !w.sides(&rotation_enclosure(&at_far)).0));
+    }
+
+    #[test]
+    fn near_parallel_edges_whose_wedges_face_the_same_way_are_excluded() {
+        // The wall's top front edge and the box's top front edge: both parts lie below
+        // and behind them, so no plane through the two separates their wedges. Turned
+        // 3e-3 rad out of parallel, the unnormalised values are all within the lever
+        // slack; the ends of both edges must stay apart from the other edge (nothing
+        // in the target implies those pairs), so the slack holds for the unit normal
+        // and the box of rotations is excluded.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let target = [PrincipalContact {
+            fixed: "e11".parse().unwrap(),
+            moving: "e4".parse().unwrap(),
+            kind: K::EdgeEdge,
+        }];
+        let turns = problem.turns(&target);
+        assert!(turns.wedges.iter().all(|w| w.normal.is_some()));
+        let near = Bounds::try_new(
+            [-5.0, -5.0, 0.0, 0.049, 0.0025, 0.0],
+            [5.0, 5.0, 240.0, 0.054, 0.0031, 0.0049],
+        )
+        .unwrap();
+        assert!(!turns.may_hold(&near));
+        // The same test with the slack on the unnormalised values passes this box: it
+        // is the normalisation that excludes it.
+        let mut loose = turns.clone();
+        for w in &mut loose.wedges {
+            w.normal = None;
+        }
+        assert!(loose.may_hold(&near));
+    }
+
+    #[test]
+    fn shaving_pins_the_tilt_of_a_face_on_a_face_and_keeps_its_witness() {
+        // A cube flat on a slab: face on face holds at rx = ry = 0 for any yaw. From
+        // ±0.3 rad the shave leaves the tilts within 1e-2 of zero in one step (the
+        // interval enclosure over the whole yaw range allows no less; splitting would
+        // take six levels per angle) and keeps the yaw whole.
+        let (slab, cube) = crate::examples::cube_and_slab();
+        let wide = Bounds::try_new([-1.0, -1.0, 0.0, -0.3, -0.3, -0.3], [1.0, 1.0, 30.0, 0.3, 0.3, 0.3]).unwrap();
+        let problem = Problem::new(&slab, &cube, wide, glam::DAffine3::IDENTITY);
+        let flat = problem
+            .clean_state(&Pose::from_array([0.0, 0.0, 0.0, 0.0, 0.0, 0.1]))
+            .expect("the cube rests flat on the slab");
+        assert!(flat.len() == 1 && flat[0].kind == K::FaceFace, "{flat:?}");
+        let shaved = problem.turns(&flat).shave(&wide).expect("the flat pose is in the box");
+        let w = shaved.width();
+        assert!(w[3] < 2e-2 && w[4] < 2e-2, "{w:?}");
+        assert!(shaved.min.rx <= 0.0 && shaved.max.rx >= 0.0);
+        assert!(shaved.min.ry <= 0.0 && shaved.max.ry >= 0.0);
+        assert_eq!((shaved.min.rz, shaved.max.rz), (-0.3, 0.3));
     }
 }
