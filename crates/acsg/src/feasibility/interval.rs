@@ -140,12 +140,6 @@ pub(crate) fn axis_rotations(bounds: &Bounds) -> [IntervalMat; 3] {
     [rx, ry, rz]
 }
 
-/// The product of interval matrices, left to right.
-pub(crate) fn product(factors: &[IntervalMat]) -> IntervalMat {
-    let identity = std::array::from_fn(|i| std::array::from_fn(|j| Interval::point(if i == j { 1.0 } else { 0.0 })));
-    factors.iter().fold(identity, |acc, f| mat_mul(&acc, f))
-}
-
 /// Enclosure of R = Rz(rz) Ry(ry) Rx(rx) over the bounds' angle box.
 pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
     let [rx, ry, rz] = axis_rotations(bounds);

@@ -14,7 +14,7 @@
 use glam::{DMat3, DVec3};
 
 use super::{Apart, IVec, Link, Prover, over_face};
-use crate::feasibility::interval::{Interval, IntervalMat, axis_rotations, product};
+use crate::feasibility::interval::Interval;
 use crate::feasibility::lp::{self, Row, VARS};
 use crate::pose::Bounds;
 
@@ -76,10 +76,11 @@ struct Turn {
     s: f64,
     /// The half-widths of the angles.
     h: [f64; 3],
-    /// Enclosures over the box of the second derivatives `∂²R/∂θj∂θk`, for
-    /// `(j, k)` = (x, x), (y, y), (z, z), (x, y), (x, z), (y, z), as a midpoint
-    /// matrix and a radius matrix (entrywise).
-    hessian: [(DMat3, DMat3); 6],
+    /// The second derivatives `∂²R/∂θj∂θk` at the centre, for `(j, k)` = (x, x),
+    /// (y, y), (z, z), (x, y), (x, z), (y, z). Over the box each is within `s` of
+    /// its value here (in the operator norm): every third derivative is a product of
+    /// rotations and unit generators, of norm at most 1.
+    hessian: [DMat3; 6],
     /// Centre of the translation box and the half-diagonal of it.
     t_c: DVec3,
     d: f64,
@@ -97,32 +98,14 @@ impl Turn {
         let (kx, ky, kz) = (skew(DVec3::X), skew(DVec3::Y), skew(DVec3::Z));
         let t_lo = DVec3::new(lo[0], lo[1], lo[2]);
         let t_hi = DVec3::new(hi[0], hi[1], hi[2]);
-        let angles = Bounds::try_new(*lo, *hi).ok();
-        let hessian = angles.map_or([(DMat3::ZERO, DMat3::from_cols_array(&[1.0; 9])); 6], |b| {
-            let [rx, ry, rz] = axis_rotations(&b);
-            let k = |m: DMat3| -> IntervalMat {
-                std::array::from_fn(|i| std::array::from_fn(|j| Interval::point(m.col(j)[i])))
-            };
-            let (kx, ky, kz) = (k(kx), k(ky), k(kz));
-            [
-                product(&[rz, ry, rx, kx, kx]),
-                product(&[rz, ry, ky, ky, rx]),
-                product(&[rz, kz, kz, ry, rx]),
-                product(&[rz, ry, ky, rx, kx]),
-                product(&[rz, kz, ry, rx, kx]),
-                product(&[rz, kz, ry, ky, rx]),
-            ]
-            .map(|m| {
-                let at = |f: &dyn Fn(Interval) -> f64| {
-                    DMat3::from_cols_array_2d(&std::array::from_fn(|j| std::array::from_fn(|i| f(m[i][j]))))
-                };
-                // Rounded outwards: the radius covers the midpoint's rounding too.
-                (
-                    at(&|v| 0.5 * (v.lo + v.hi)),
-                    at(&|v| 0.5 * (v.hi - v.lo) * (1.0 + 1e-12) + 1e-300),
-                )
-            })
-        });
+        let hessian = [
+            rz * ry * rx * kx * kx,
+            rz * ry * ky * ky * rx,
+            rz * kz * kz * ry * rx,
+            rz * ry * ky * rx * kx,
+            rz * kz * ry * rx * kx,
+            rz * kz * ry * ky * rx,
+        ];
         Turn {
             r: rz * ry * rx,
             by_rx: rz * ry * rx * kx,
@@ -159,12 +142,14 @@ impl Turn {
             2.0 * h[0] * h[2],
             2.0 * h[1] * h[2],
         ];
-        let (n_abs, v_abs) = (n.abs(), v.abs());
+        // Off the centre each second derivative moves by at most `s` (times |n| |v|),
+        // and the weights add up to s²; the round-off of the products is covered too.
+        let spread = (self.s + 1e-12) * n.length() * v.length();
         let along: f64 = self
             .hessian
             .iter()
             .zip(weights)
-            .map(|((mid, radius), w)| w * (n.dot(*mid * v).abs() + n_abs.dot(*radius * v_abs)))
+            .map(|(m, w)| w * (n.dot(*m * v).abs() + spread))
             .sum();
         (0.5 * along).min(self.second(v) * n.length())
     }
