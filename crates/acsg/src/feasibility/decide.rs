@@ -395,9 +395,17 @@ impl Problem<'_> {
             }
             let split = self.look_ahead(target, links, mode, &narrowed);
             match split {
-                Some(k) => {
-                    for half in halves(&narrowed, k) {
-                        branching.open.push_back((half, depth + 1));
+                Some(Split { component, excluded }) => {
+                    // The halves the look-ahead excluded count as examined here.
+                    for (half, rule) in halves(&narrowed, component).into_iter().zip(excluded) {
+                        match rule {
+                            Some(rule) => {
+                                branching.examined += 1;
+                                stats.boxes += 1;
+                                branching.rules.insert(rule);
+                            }
+                            None => branching.open.push_back((half, depth + 1)),
+                        }
                     }
                 }
                 None if mode == Mode::Rotations => branching.leaves.push(narrowed),
@@ -421,19 +429,23 @@ impl Problem<'_> {
     /// one whose halves the tests exclude the most of. On a tie, among rotations, the
     /// angle the undecided rotation conditions change the most (a turn about a face's
     /// normal then stays whole), else the mean share of the translation widths left
-    /// after propagation, then the widest.
-    fn look_ahead(&self, target: &[PrincipalContact], links: &Conditions, mode: Mode, b: &Bounds) -> Option<usize> {
+    /// after propagation, then the widest. With it, the rule that excluded each half.
+    fn look_ahead(&self, target: &[PrincipalContact], links: &Conditions, mode: Mode, b: &Bounds) -> Option<Split> {
         let components = match mode {
             Mode::Rotations => 3..6,
             Mode::All => 0..6,
         };
         let widest = self.prover.split_among(b, components.clone())?;
         let parent = b.width();
-        let score = |k: usize| -> (usize, f64) {
+        let mut rules: Vec<(usize, Vec<Option<Rule>>)> = Vec::new();
+        let mut score = |k: usize| -> (usize, f64) {
             let mut excluded = 0;
             let mut left = 0.0;
+            let mut by = Vec::new();
             for half in halves(b, k) {
-                match self.exclude(target, links, mode, &half, false) {
+                let verdict = self.exclude(target, links, mode, &half, false);
+                by.push(verdict.as_ref().err().copied());
+                match verdict {
                     Err(_) => excluded += 1,
                     Ok(narrowed) => {
                         let w = narrowed.width();
@@ -444,29 +456,38 @@ impl Problem<'_> {
                     }
                 }
             }
+            rules.push((k, by));
             (excluded, left)
         };
         let scores: Vec<(usize, (usize, f64))> = components
             .filter(|&k| self.prover.split_among(b, k..k + 1).is_some())
             .map(|k| (k, score(k)))
             .collect();
+        let split = |component: usize| {
+            let excluded = rules
+                .iter()
+                .find(|(k, _)| *k == component)
+                .map_or_else(Vec::new, |(_, by)| by.clone());
+            Split { component, excluded }
+        };
         let hinted = links.turns.split(b);
         let most = scores.iter().map(|&(_, (e, _))| e).max()?;
         if most > 0 {
-            return scores.iter().find(|&&(_, (e, _))| e == most).map(|&(k, _)| k);
+            return scores.iter().find(|&&(_, (e, _))| e == most).map(|&(k, _)| split(k));
         }
         if let Some(k) = hinted.filter(|k| scores.iter().any(|&(j, _)| j == *k)) {
-            return Some(k);
+            return Some(split(k));
         }
         let least = scores.iter().map(|&(_, (_, l))| l).fold(f64::INFINITY, f64::min);
         if scores.iter().all(|&(_, (_, l))| l == least) {
-            return Some(widest);
+            return Some(split(widest));
         }
-        scores.iter().find(|&&(_, (_, l))| l == least).map(|&(k, _)| k)
+        scores.iter().find(|&&(_, (_, l))| l == least).map(|&(k, _)| split(k))
     }
 
     /// The exclusion tests of one box: the box narrowed by propagation when none
     /// excludes it.
+    ///
     /// With `shave`, the box's angles are first cut down to where the rotation
     /// conditions may hold ([`Turns::shave`]); the look-ahead's trial halves only test
     /// them.
@@ -563,6 +584,13 @@ impl Problem<'_> {
 }
 
 /// The two halves of a box split across component `k`.
+/// Where the look-ahead splits a box, and the rule that excluded each half (in the
+/// order of [`halves`]; none for a half that stays open).
+struct Split {
+    component: usize,
+    excluded: Vec<Option<Rule>>,
+}
+
 fn halves(b: &Bounds, k: usize) -> Vec<Bounds> {
     let (lo, hi) = (b.min.to_array(), b.max.to_array());
     let mid = 0.5 * (lo[k] + hi[k]);
