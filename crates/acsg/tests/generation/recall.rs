@@ -10,11 +10,10 @@
 //! - For each pair, every robust state it reads is cross-checked with the library's
 //!   `ContactScene` at the same pose, and must be among the generated graph's states.
 //!
-//! `ACSG_RECALL_DUMP=<dir> cargo test -p acsg --test recall -- --ignored dump` writes the
+//! `ACSG_RECALL_DUMP=<dir> cargo test -p acsg --test generation -- --ignored dump` writes the
 //! oracle's states per pair as JSON lines, to diff against the generator, and the
 //! generated states whose witness the independent evaluator reads otherwise.
 
-mod common;
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -22,17 +21,19 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use acsg::contact::{ContactKind, ContactScene, PrincipalContact};
-use acsg::graph::{Options, generate};
+use acsg::graph::{Graph, Options, generate};
 use acsg::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use acsg::pose::{Bounds, Pose};
 use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
-use common::principal::{Evaluator, Verdict, describe_state};
-use common::slices::{
+use crate::common::principal::{Evaluator, Verdict, describe_state};
+use crate::common::slices::{
     Oracle, OracleReport, SampleKind, Slice, SliceOptions, angles_of, check_pieces, checked_pieces,
     minkowski_difference, part_volume_and_moment, piece_from_points, rotation_of, rotation_slices,
 };
 use glam::{DAffine3, DMat3, DVec3};
 use rayon::prelude::*;
+
+use crate::built_in_example;
 
 fn fixtures() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures")
@@ -638,6 +639,8 @@ struct PairRun {
     bounds: Bounds,
     files: (&'static str, &'static str),
     report: OracleReport,
+    /// Whether the pair is the built-in example, whose graph the binary shares.
+    built_in: bool,
 }
 
 fn peg_bounds(xy: f64, z: f64, degrees: f64) -> Bounds {
@@ -699,6 +702,7 @@ fn pair_run(index: usize) -> &'static PairRun {
             s.non_robust
         );
         PairRun {
+            built_in: index == 0,
             name,
             fixed,
             moving,
@@ -807,8 +811,18 @@ impl PairRun {
     }
 
     /// Every oracle state must be a state of the generated graph.
+    /// The generated graph with the default options (the shared one of the built-in
+    /// example).
+    fn graph(&self) -> std::borrow::Cow<'static, Graph> {
+        if self.built_in {
+            std::borrow::Cow::Borrowed(built_in_example())
+        } else {
+            std::borrow::Cow::Owned(generate(&self.fixed, &self.moving, &self.bounds, &Options::default()))
+        }
+    }
+
     fn recall(&self) {
-        let graph = generate(&self.fixed, &self.moving, &self.bounds, &Options::default());
+        let graph = self.graph();
         let generated: BTreeSet<&Vec<PrincipalContact>> = graph.states.iter().map(|s| &s.contacts).collect();
         let missing: Vec<_> = self
             .report
@@ -846,7 +860,7 @@ impl PairRun {
     /// - `<pair>.witnesses.jsonl`: the generated states whose witness the independent
     ///   evaluator reads otherwise (another state, not robust, or penetrating).
     fn dump(&self, dir: &Path) -> std::io::Result<[PathBuf; 2]> {
-        let graph = generate(&self.fixed, &self.moving, &self.bounds, &Options::default());
+        let graph = self.graph();
         let generated: BTreeSet<&Vec<PrincipalContact>> = graph.states.iter().map(|s| &s.contacts).collect();
         let labels = |state: &[PrincipalContact]| -> Vec<String> {
             state
