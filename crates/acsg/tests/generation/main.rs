@@ -22,7 +22,12 @@ fn built_in_example() -> &'static Graph {
     static RUN: OnceLock<Graph> = OnceLock::new();
     RUN.get_or_init(|| {
         let (l_block, box_part) = acsg::examples::l_block_and_box();
-        let mut graph = generate(&l_block, &box_part, &acsg::examples::paper_bounds(), &Options::default());
+        let mut graph = generate(
+            &l_block,
+            &box_part,
+            &acsg::examples::paper_bounds(),
+            &Options::default(),
+        );
         graph.stats.stage1_seconds = 0.0;
         graph.stats.stage2_seconds = 0.0;
         graph

@@ -14,22 +14,21 @@
 //! oracle's states per pair as JSON lines, to diff against the generator, and the
 //! generated states whose witness the independent evaluator reads otherwise.
 
-
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-use acsg::contact::{ContactKind, ContactScene, PrincipalContact};
-use acsg::graph::{Graph, Options, generate};
-use acsg::model::{EdgeId, ElementId, FaceId, Part, VertexId};
-use acsg::pose::{Bounds, Pose};
-use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
 use crate::common::principal::{Evaluator, Verdict, describe_state};
 use crate::common::slices::{
     Oracle, OracleReport, SampleKind, Slice, SliceOptions, angles_of, check_pieces, checked_pieces,
     minkowski_difference, part_volume_and_moment, piece_from_points, rotation_of, rotation_slices,
 };
+use acsg::contact::{ContactKind, ContactScene, PrincipalContact};
+use acsg::graph::{Graph, Options, generate};
+use acsg::model::{EdgeId, ElementId, FaceId, Part, VertexId};
+use acsg::pose::{Bounds, Pose};
+use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
 use glam::{DAffine3, DMat3, DVec3};
 use rayon::prelude::*;
 

@@ -84,12 +84,7 @@ fn compare_with(fixed: &Part, moving: &Part, bounds: &Bounds, full: &Graph) -> G
 #[test]
 fn on_the_built_in_example_the_default_finds_every_state_of_the_papers_algorithm() {
     let (l_block, box_part) = acsg::examples::l_block_and_box();
-    let paper = compare_with(
-        &l_block,
-        &box_part,
-        &acsg::examples::paper_bounds(),
-        built_in_example(),
-    );
+    let paper = compare_with(&l_block, &box_part, &acsg::examples::paper_bounds(), built_in_example());
     assert_eq!(paper.stats.ppc, 328);
     // The four bottom corners of the box on the floor are feasible PPCs, and stage 2
     // grows states from them.
