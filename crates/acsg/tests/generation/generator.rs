@@ -5,26 +5,10 @@ use acsg::contact::{ContactKind, ContactScene};
 use acsg::graph::{Graph, Options, generate};
 use acsg::model::{ElementId, Part};
 use acsg::pose::Bounds;
-use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
+use acsg::tolerance::CONTACT_REL;
 use glam::DAffine3;
 
-use crate::built_in_example;
-
-/// Every state's witness shows exactly that state, inside the bounds, with no
-/// penetration and every other pair clear.
-fn verify_witnesses(fixed: &Part, moving: &Part, bounds: &Bounds, graph: &Graph) {
-    let scene = ContactScene::new(fixed, moving);
-    for state in &graph.states[1..] {
-        let pose = state.witness.expect("every contact state has a witness");
-        assert!(bounds.contains(&pose, 1e-9, 1e-12), "{pose:?} outside the bounds");
-        let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
-        assert_eq!(report.contacts, state.contacts, "state {} at {pose:?}", state.id);
-        assert_eq!(report.penetration, 0.0);
-        if let Some(gap) = report.min_gap {
-            assert!(gap >= SEPARATION_REL * scene.scale(), "a pair only {gap} apart");
-        }
-    }
-}
+use crate::{built_in_example, verify_witnesses};
 
 /// The cube on the slab with x, y within ±1, z from 0 to 30, yaw free and the tilt
 /// about x and y within ±`tilt`: every witness verified, then the numbers of single f-v,

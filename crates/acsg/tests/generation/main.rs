@@ -14,7 +14,12 @@ mod strategies;
 
 use std::sync::OnceLock;
 
+use acsg::contact::ContactScene;
 use acsg::graph::{Graph, Options, generate};
+use acsg::model::Part;
+use acsg::pose::Bounds;
+use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
+use glam::DAffine3;
 
 /// The built-in example's graph with the default options, generated once for every
 /// test that reads it (its stage times zeroed).
@@ -32,4 +37,20 @@ fn built_in_example() -> &'static Graph {
         graph.stats.stage2_seconds = 0.0;
         graph
     })
+}
+
+/// Every state's witness shows exactly that state at the contact tolerance, inside the
+/// bounds, with no penetration and every other pair at least the separation apart.
+fn verify_witnesses(fixed: &Part, moving: &Part, bounds: &Bounds, graph: &Graph) {
+    let scene = ContactScene::new(fixed, moving);
+    for state in &graph.states[1..] {
+        let pose = state.witness.expect("every contact state has a witness");
+        assert!(bounds.contains(&pose, 1e-9, 1e-12), "{pose:?} outside the bounds");
+        let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+        assert_eq!(report.contacts, state.contacts, "state {} at {pose:?}", state.id);
+        assert_eq!(report.penetration, 0.0, "state {} penetrates", state.id);
+        if let Some(gap) = report.min_gap {
+            assert!(gap >= SEPARATION_REL * scene.scale(), "a pair only {gap} apart");
+        }
+    }
 }

@@ -5,14 +5,12 @@
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 
-use acsg::contact::{ContactScene, PrincipalContact};
+use acsg::contact::PrincipalContact;
 use acsg::graph::{Graph, Options, Strategy, generate};
 use acsg::model::Part;
 use acsg::pose::Bounds;
-use acsg::tolerance::{CONTACT_REL, SEPARATION_REL};
-use glam::DAffine3;
 
-use crate::built_in_example;
+use crate::{built_in_example, verify_witnesses};
 
 fn fixture(name: &str) -> Part {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -27,22 +25,6 @@ fn run(fixed: &Part, moving: &Part, bounds: &Bounds, strategy: Strategy) -> Grap
         ..Options::default()
     };
     generate(fixed, moving, bounds, &options)
-}
-
-/// Every state's witness shows exactly that state at the contact tolerance, inside the
-/// bounds, with no penetration and every other pair at least the separation apart.
-fn verify_witnesses(fixed: &Part, moving: &Part, bounds: &Bounds, graph: &Graph) {
-    let scene = ContactScene::new(fixed, moving);
-    for state in &graph.states[1..] {
-        let pose = state.witness.expect("every contact state has a witness");
-        assert!(bounds.contains(&pose, 1e-9, 1e-12), "{pose:?} outside the bounds");
-        let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
-        assert_eq!(report.contacts, state.contacts, "state {} at {pose:?}", state.id);
-        assert_eq!(report.penetration, 0.0, "state {} penetrates", state.id);
-        if let Some(gap) = report.min_gap {
-            assert!(gap >= SEPARATION_REL * scene.scale(), "a pair only {gap} apart");
-        }
-    }
 }
 
 fn states(graph: &Graph) -> BTreeSet<Vec<PrincipalContact>> {
