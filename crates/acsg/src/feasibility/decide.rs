@@ -437,8 +437,7 @@ impl Problem<'_> {
         };
         let widest = self.prover.split_among(b, components.clone())?;
         let parent = b.width();
-        let mut rules: Vec<(usize, Vec<Option<Rule>>)> = Vec::new();
-        let mut score = |k: usize| -> (usize, f64) {
+        let score = |k: usize| -> (usize, f64, Vec<Option<Rule>>) {
             let mut excluded = 0;
             let mut left = 0.0;
             let mut by = Vec::new();
@@ -456,33 +455,32 @@ impl Problem<'_> {
                     }
                 }
             }
-            rules.push((k, by));
-            (excluded, left)
+            (excluded, left, by)
         };
-        let scores: Vec<(usize, (usize, f64))> = components
+        let scores: Vec<_> = components
             .filter(|&k| self.prover.split_among(b, k..k + 1).is_some())
             .map(|k| (k, score(k)))
             .collect();
-        let split = |component: usize| {
-            let excluded = rules
+        let split = |component: usize| Split {
+            component,
+            excluded: scores
                 .iter()
                 .find(|(k, _)| *k == component)
-                .map_or_else(Vec::new, |(_, by)| by.clone());
-            Split { component, excluded }
+                .map_or_else(Vec::new, |(_, (_, _, by))| by.clone()),
         };
         let hinted = links.turns.split(b);
-        let most = scores.iter().map(|&(_, (e, _))| e).max()?;
+        let most = scores.iter().map(|(_, (e, _, _))| *e).max()?;
         if most > 0 {
-            return scores.iter().find(|&&(_, (e, _))| e == most).map(|&(k, _)| split(k));
+            return scores.iter().find(|(_, (e, _, _))| *e == most).map(|(k, _)| split(*k));
         }
-        if let Some(k) = hinted.filter(|k| scores.iter().any(|&(j, _)| j == *k)) {
+        if let Some(k) = hinted.filter(|k| scores.iter().any(|(j, _)| j == k)) {
             return Some(split(k));
         }
-        let least = scores.iter().map(|&(_, (_, l))| l).fold(f64::INFINITY, f64::min);
-        if scores.iter().all(|&(_, (_, l))| l == least) {
+        let least = scores.iter().map(|(_, (_, l, _))| *l).fold(f64::INFINITY, f64::min);
+        if scores.iter().all(|(_, (_, l, _))| *l == least) {
             return Some(split(widest));
         }
-        scores.iter().find(|&&(_, (_, l))| l == least).map(|&(k, _)| split(k))
+        scores.iter().find(|(_, (_, l, _))| *l == least).map(|(k, _)| split(*k))
     }
 
     /// The exclusion tests of one box: the box narrowed by propagation when none
@@ -583,7 +581,6 @@ impl Problem<'_> {
     }
 }
 
-/// The two halves of a box split across component `k`.
 /// Where the look-ahead splits a box, and the rule that excluded each half (in the
 /// order of [`halves`]; none for a half that stays open).
 struct Split {
@@ -591,6 +588,7 @@ struct Split {
     excluded: Vec<Option<Rule>>,
 }
 
+/// The two halves of a box split across component `k`.
 fn halves(b: &Bounds, k: usize) -> Vec<Bounds> {
     let (lo, hi) = (b.min.to_array(), b.max.to_array());
     let mid = 0.5 * (lo[k] + hi[k]);

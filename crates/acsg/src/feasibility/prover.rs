@@ -755,7 +755,6 @@ impl<'a> Prover<'a> {
     }
 }
 
-/// A box with its translation intervals replaced (they only ever narrow inside it).
 /// Whether the pair (`a` of the fixed part, `b` of the moving part) touches wherever
 /// the target's contacts hold, so a witness need not keep it apart: each element holds
 /// a contact's element on its side (a face around a touching vertex), or, for a contact
@@ -773,6 +772,7 @@ pub(crate) fn implied(fixed: &Part, moving: &Part, target: &[PrincipalContact], 
     })
 }
 
+/// A box with its translation intervals replaced (they only ever narrow inside it).
 fn with_translation(bounds: &Bounds, t: &IVec) -> Bounds {
     let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
     for k in 0..3 {

@@ -165,6 +165,15 @@ impl Turns {
             })
     }
 
+    /// Whether there is no condition at all (every rotation meets them).
+    fn is_empty(&self) -> bool {
+        self.turns.is_empty()
+            && self.avoid.is_empty()
+            && self.wedges.is_empty()
+            && self.askew.is_empty()
+            && self.flush.is_empty()
+    }
+
     /// The box with its angle ranges cut down to where the conditions may hold
     /// (`None`: nowhere). From each end of each angle's range, slabs are cut off while
     /// no rotation in them meets the conditions, each half of what is left, then
@@ -174,7 +183,7 @@ impl Turns {
         if !self.may_hold(b) {
             return None;
         }
-        if self.turns.is_empty() && self.wedges.is_empty() && self.flush.is_empty() {
+        if self.is_empty() {
             return Some(*b);
         }
         let (mut lo, mut hi) = (b.min.to_array(), b.max.to_array());
