@@ -183,14 +183,14 @@ def frustum_volume(h, a1, a2):
 N_ROUND = 32
 
 
-def d_round_radii():
+def d_round_radii(n=N_ROUND):
     """(hole circumradius 15, top-of-chamfer circumradius) as Decimals: the
     chamfer moves every side face of the hole out by 3 (measured perpendicular
-    to the side) over a height of 3, i.e. 45 deg; the top 32-gon has apothem
-    15 cos(pi/32) + 3, so circumradius 15 + 3 / cos(pi/32)."""
+    to the side) over a height of 3, i.e. 45 deg; the top n-gon has apothem
+    15 cos(pi/n) + 3, so circumradius 15 + 3 / cos(pi/n)."""
     with localcontext() as ctx:
         ctx.prec = DPREC
-        return Decimal(15), Decimal(15) + 3 / d_cos(d_pi() / N_ROUND)
+        return Decimal(15), Decimal(15) + 3 / d_cos(d_pi() / n)
 
 
 # --------------------------------------------------------------------------
@@ -331,8 +331,8 @@ def block_with_tight_hole_mesh():
     return holed_block_mesh("block_with_tight_hole", rings, [0, 1, 2, 3])
 
 
-def round_peg_mesh():
-    ring = ngon_xy(50, 50, Decimal(14), N_ROUND)
+def round_peg_mesh(n_sides=N_ROUND, name="round_peg"):
+    ring = ngon_xy(50, 50, Decimal(14), n_sides)
     n = len(ring)
     verts = [(x, y, 10) for x, y in ring] + [(x, y, 90) for x, y in ring]
     polys = [list(range(n - 1, -1, -1)),                 # bottom z=10, normal -z
@@ -340,17 +340,18 @@ def round_peg_mesh():
     for k in range(n):
         j = (k + 1) % n
         polys.append([k, j, n + j, n + k])               # sides, outward
-    return Mesh("round_peg", verts, polys)
+    return Mesh(name, verts, polys)
 
 
-def block_with_round_hole_mesh():
-    r15, r_top = d_round_radii()
-    hole = ngon_xy(50, 50, r15, N_ROUND)
-    top = ngon_xy(50, 50, r_top, N_ROUND)
+def block_with_round_hole_mesh(n_sides=N_ROUND, name="block_with_round_hole"):
+    assert n_sides % 8 == 0, "the block's corners are joined to hole vertices at 225, 315, 45, 135 deg"
+    r15, r_top = d_round_radii(n_sides)
+    hole = ngon_xy(50, 50, r15, n_sides)
+    top = ngon_xy(50, 50, r_top, n_sides)
     rings = [(0, hole), (47, hole), (50, top)]
     # corners (0,0), (100,0), (100,100), (0,100) lie at 225, 315, 45, 135 deg
-    q = N_ROUND // 8
-    return holed_block_mesh("block_with_round_hole", rings, [5 * q, 7 * q, 9 * q, 11 * q])
+    q = n_sides // 8
+    return holed_block_mesh(name, rings, [5 * q, 7 * q, 9 * q, 11 * q])
 
 
 # --------------------------------------------------------------------------
@@ -875,9 +876,9 @@ BINARY = {"l_block", "box"}
 PLY = {"l_block"}
 
 
-def round_volumes():
-    r15, r_top = d_round_radii()
-    a14, a15, a_top = (ngon_area(r, N_ROUND) for r in (Decimal(14), r15, r_top))
+def round_volumes(n=N_ROUND):
+    r15, r_top = d_round_radii(n)
+    a14, a15, a_top = (ngon_area(r, n) for r in (Decimal(14), r15, r_top))
     with localcontext() as ctx:
         ctx.prec = DPREC
         peg = a14 * 80
@@ -897,6 +898,40 @@ GOOD += [
 ROUND = {"round_peg", "block_with_round_hole"}
 NO_OBJ = {"block_with_chamfered_hole", "round_peg", "block_with_round_hole",
           "block_with_tight_hole"}  # .off + .stl only
+
+
+# The scaling series (the `scale` benchmark): an n-gon peg over a block with a
+# chamfered n-gon hole, as `round_peg` + `block_with_round_hole` (n = 32 there).
+# Hand-derived B-rep counts: the peg has n + 2 faces, 2n vertices and 3n edges,
+# all convex; the block 2n + 6 faces (top and bottom holed, so non-convex),
+# 3n + 8 vertices (the 8 block corners convex), 5n + 12 edges of which the 2n
+# between hole faces (vertical walls, slanted chamfer edges) are concave.
+SCALE = OUT / "scale"
+SCALE_SIDES = (8, 16, 32, 64)
+
+
+def scale_meshes():
+    for n in SCALE_SIDES:
+        v_peg, v_block = round_volumes(n)
+        yield (round_peg_mesh(n, f"round_peg_{n}"), v_peg, (n + 2, 0, 2 * n, 2 * n, 3 * n, 3 * n, 0))
+        yield (block_with_round_hole_mesh(n, f"block_with_round_hole_{n}"), v_block,
+               (2 * n + 6, 2, 3 * n + 8, 8, 5 * n + 12, 3 * n + 12, 2 * n))
+
+
+def write_scale():
+    for mesh, _, _ in scale_meshes():
+        write(SCALE / f"{mesh.name}.off", off_text(mesh.verts, mesh.polys))
+
+
+def check_scale():
+    for mesh, volume, counts in scale_meshes():
+        label = f"scale/{mesh.name}.off"
+        v, p = read_off(SCALE / f"{mesh.name}.off")
+        check(v == mesh.verts and p == mesh.polys, f"{label}: round trip differs")
+        check_closed_solid(label, v, p, volume, REL_TOL)
+        _, tris = triangulate(Mesh(mesh.name, v, p))
+        got = brep_counts(v, tris, F(REL_TOL) * extent(v))
+        check(got == counts, f"{label}: B-rep counts {got} != hand-derived {counts}")
 
 
 def write_good():
@@ -1051,6 +1086,12 @@ def readme_text():
              "frame at the assembled pose (A fixed, B moving): `l_block` + `box`, `block_with_hole` + `peg`, "
              "`block_with_chamfered_hole` + `peg`, `block_with_round_hole` + `round_peg`, "
              "`block_with_tight_hole` + `peg`.")
+    L.append("")
+    L.append("`scale/` holds the scaling series of the `scale` benchmark: `round_peg_N` + "
+             "`block_with_round_hole_N` for N = " + ", ".join(str(n) for n in SCALE_SIDES) + ", built as the "
+             "32-sided pair (which they equal at N = 32) with N sides. Each is checked for volume and for "
+             "the hand-derived B-rep counts (peg: N + 2 faces, 2N vertices, 3N edges; block: 2N + 6 faces, "
+             "3N + 8 vertices, 5N + 12 edges of which 2N concave). `.off` only.")
     L.append("")
     L.append("All good models are closed, consistently oriented solids; polygons wind counter-clockwise "
              "seen from outside. Coordinates are integers or exact binary fractions, except in the round parts "
@@ -1319,8 +1360,10 @@ def self_check():
 def main():
     write_good()
     write_bad()
+    write_scale()
     write(OUT / "README.md", readme_text())
     self_check()
+    check_scale()
     total = 0
     for path in WRITTEN:
         size = path.stat().st_size
