@@ -7,7 +7,9 @@
 //! bounding boxes overlap (parry's own boxes), gives its deepest penetration. The
 //! program prints, per pair of parts, both times, their ratio, and how often the two
 //! disagree on whether the parts penetrate (beyond a tolerance of 1e-9 L) and by how
-//! much their depths differ where both say they do.
+//! much their depths differ where both say they do. It also times acsg's yes-or-no
+//! test (`ContactScene::penetrates_beyond` at the tolerance), which its search runs far
+//! more often than the depth, and checks that it agrees with the depth.
 //!
 //! `cargo run --release` here (`benches/parry`, a workspace of its own so that parry
 //! is never built by the main workspace's tests). `ACSG_PARRY_POSES=n` sets the poses
@@ -128,8 +130,8 @@ fn main() -> Result<(), String> {
     ];
     println!("penetration of the parts at {poses} poses per pair drawn from the generator's bounds (one thread)");
     println!(
-        "{:<28} {:>13} {:>10} {:>10} {:>8} {:>12} {:>14}",
-        "parts", "piece pairs", "acsg ms", "parry ms", "ratio", "disagree", "max |Δdepth|"
+        "{:<28} {:>13} {:>10} {:>10} {:>8} {:>12} {:>14} {:>10} {:>10}",
+        "parts", "piece pairs", "acsg ms", "parry ms", "ratio", "disagree", "max |Δdepth|", "excess ms", "yes/no ms"
     );
     for case in &cases {
         let length = length_scale(&case.fixed, &case.moving);
@@ -147,6 +149,35 @@ fn main() -> Result<(), String> {
         let started = Instant::now();
         let ours: Vec<f64> = placements.iter().map(|p| scene.penetration_depth(p)).collect();
         let acsg_time = started.elapsed();
+        // The yes-or-no question the search asks most: do they penetrate beyond the
+        // tolerance? (Pairs are dropped at their first axis that says no.)
+        let started = Instant::now();
+        let beyond: Vec<bool> = placements
+            .iter()
+            .map(|p| scene.penetrates_beyond(p, tolerance))
+            .collect();
+        let beyond_time = started.elapsed();
+        // The optimiser's residual: the depth when positive (pairs dropped early too).
+        let started = Instant::now();
+        let excess: Vec<f64> = placements.iter().map(|p| scene.penetration_excess(p)).collect();
+        let excess_time = started.elapsed();
+        if excess.iter().zip(&ours).any(|(&e, &d)| e != d.max(0.0)) {
+            return Err(format!(
+                "{}: penetration_excess is not the positive part of the depth",
+                case.name
+            ));
+        }
+        let beyond_wrong = beyond
+            .iter()
+            .zip(&ours)
+            .filter(|&(&b, &d)| b != (d > tolerance))
+            .count();
+        if beyond_wrong > 0 {
+            return Err(format!(
+                "{}: penetrates_beyond disagrees with the depth at {beyond_wrong} poses",
+                case.name
+            ));
+        }
         let parry_poses: Vec<ParryPose> = placements.iter().map(parry_pose).collect();
         let started = Instant::now();
         let theirs: Vec<Option<f64>> = parry_poses
@@ -166,16 +197,21 @@ fn main() -> Result<(), String> {
         }
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
         println!(
-            "{:<28} {:>13} {:>10.1} {:>10.1} {:>7.2}x {:>12} {:>14.3e}",
+            "{:<28} {:>13} {:>10.1} {:>10.1} {:>7.2}x {:>12} {:>14.3e} {:>10.1} {:>10.1}",
             case.name,
             format!("{} x {}", fixed_parry.len(), moving_parry.len()),
             ms(acsg_time),
             ms(parry_time),
             ms(parry_time) / ms(acsg_time).max(1e-9),
             format!("{disagree} of {poses}"),
-            worst
+            worst,
+            ms(excess_time),
+            ms(beyond_time)
         );
     }
-    println!("ratio: parry's time over acsg's (above 1: acsg is faster)");
+    println!(
+        "ratio: parry's time over acsg's depth (above 1: acsg is faster); excess: acsg's optimiser residual (the \
+         depth when positive); yes/no: acsg's `penetrates_beyond` at the tolerance"
+    );
     Ok(())
 }

@@ -87,6 +87,20 @@ proptest! {
         prop_assert_eq!(scene.penetration_excess(&pose), full);
     }
 
+    /// The thresholded query (pairs dropped early) answers as the full depth does.
+    #[test]
+    fn penetrates_beyond_agrees_with_the_depth(
+        t in vec3(-3.0, 3.0),
+        lift in -20.0f64..60.0,
+        q in (unit_vector(), -0.3f64..0.3).prop_map(|(axis, angle)| DQuat::from_axis_angle(axis, angle)),
+        threshold in prop_oneof![Just(0.0), 0.0f64..3.0],
+    ) {
+        let (scene, _) = round_peg_in_hole();
+        let pose = DAffine3::from_rotation_translation(q, DVec3::new(t.x, t.y, t.z + lift));
+        let depth = scene.penetration_depth(&pose);
+        prop_assert_eq!(scene.penetrates_beyond(&pose, threshold), depth > threshold, "depth {}", depth);
+    }
+
     #[test]
     fn axis_aligned_boxes_match_interval_overlaps(
         a_min in vec3(-2.0, 2.0),

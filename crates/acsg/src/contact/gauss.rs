@@ -191,10 +191,10 @@ fn arcs_cross(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> bool {
 }
 
 /// SAT over the facets of A ⊕ (−B); both hulls in the same frame.
-/// With `until_separated`, stops at the first axis that separates or touches (depth
-/// ≤ 0): the depth returned is then only an upper bound, enough to know that the pair
-/// does not penetrate.
-pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>, until_separated: bool) -> Separation {
+/// Stops at the first axis whose overlap is at most `stop_at` (0: one that separates
+/// or touches; `f64::NEG_INFINITY`: never): the depth returned is then only an upper
+/// bound, enough to know that the pair does not penetrate by more.
+pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>, stop_at: f64) -> Separation {
     let mut best = Separation {
         depth: f64::INFINITY,
         axis: DVec3::X,
@@ -212,7 +212,7 @@ pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>, until_separated: bool) ->
         let (min_b, at) = b.min_along(n, start);
         start = at;
         let depth = offset - min_b;
-        if until_separated && depth <= 0.0 {
+        if depth <= stop_at {
             return Separation::bound(depth, n);
         }
         consider(depth, n, 0.5 * (offset + min_b));
@@ -224,7 +224,7 @@ pub(crate) fn separate(a: &Placed<'_>, b: &Placed<'_>, until_separated: bool) ->
         let (min_a, at) = a.min_along(m, start);
         start = at;
         let depth = offset - min_a;
-        if until_separated && depth <= 0.0 {
+        if depth <= stop_at {
             return Separation::bound(depth, -m);
         }
         consider(depth, -m, -0.5 * (offset + min_a));
@@ -302,7 +302,7 @@ mod tests {
             for distance in [10.0, 14.0, 15.5, 16.5, 20.0] {
                 let t = DAffine3::from_rotation_translation(rotation, direction * distance);
                 let plain = convex_separation(&a, &b, &t);
-                let fast = separate(&ga.placed(&DAffine3::IDENTITY), &gb.placed(&t), false);
+                let fast = separate(&ga.placed(&DAffine3::IDENTITY), &gb.placed(&t), f64::NEG_INFINITY);
                 if plain.depth > 1e-9 {
                     penetrating += 1;
                     crate::assert_near!(fast.depth, plain.depth, 1e-9);

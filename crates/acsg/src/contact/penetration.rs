@@ -116,7 +116,7 @@ pub fn penetration_prepared(
             let depth = if gap > margin {
                 -gap
             } else {
-                let s = pieces.separate(i, j, false);
+                let s = pieces.separate(i, j, f64::NEG_INFINITY);
                 report.certificates.push((i, j, s.axis, s.offset));
                 s.depth
             };
@@ -138,12 +138,33 @@ pub fn penetration_excess(fixed: &PreparedPieces, moving: &PreparedPieces, movin
     let mut excess: f64 = 0.0;
     for i in 0..fixed.hulls.len() {
         for j in 0..moving.hulls.len() {
-            if pieces.box_gap(i, j) <= 0.0 {
-                excess = excess.max(pieces.separate(i, j, true).depth);
+            // A pair penetrates by at most its boxes' overlap along any axis: one that
+            // cannot beat the deepest so far is dropped, and so is its SAT at the first
+            // axis that overlaps no more than that.
+            if -pieces.box_gap(i, j) > excess {
+                excess = excess.max(pieces.separate(i, j, excess).depth);
             }
         }
     }
     excess
+}
+
+/// Whether the parts penetrate by more than `depth` (at least 0): the same answer as
+/// `penetration_prepared(..).depth > depth`, with early exits (a pair of pieces is
+/// dropped at its first axis that overlaps by `depth` or less, and the first pair that
+/// penetrates by more answers).
+#[must_use]
+pub fn penetrates_beyond(
+    fixed: &PreparedPieces,
+    moving: &PreparedPieces,
+    moving_to_fixed: &DAffine3,
+    depth: f64,
+) -> bool {
+    let mut pieces = PiecesAtPose::new(fixed, moving, moving_to_fixed);
+    let depth = depth.max(0.0);
+    (0..fixed.hulls.len()).any(|i| {
+        (0..moving.hulls.len()).any(|j| -pieces.box_gap(i, j) > depth && pieces.separate(i, j, depth).depth > depth)
+    })
 }
 
 /// Both parts' pieces with the moving part placed: hulls moved once, Gauss-map views
@@ -175,14 +196,14 @@ impl<'p> PiecesAtPose<'p> {
     }
 
     /// SAT on fixed piece `i` and moving piece `j`: by Gauss maps when both have one.
-    fn separate(&mut self, i: usize, j: usize, until_separated: bool) -> Separation {
+    fn separate(&mut self, i: usize, j: usize, stop_at: f64) -> Separation {
         match (&self.fixed.gauss[i], &self.moving.gauss[j]) {
             (Some(ga), Some(gb)) => {
                 let ga = self.fixed_gauss[i].get_or_insert_with(|| ga.placed(&DAffine3::IDENTITY));
                 let gb = self.moving_gauss[j].get_or_insert_with(|| gb.placed(&self.moving_to_fixed));
-                gauss::separate(ga, gb, until_separated)
+                gauss::separate(ga, gb, stop_at)
             }
-            _ => separate(&self.fixed.hulls[i], &self.moved[j], until_separated),
+            _ => separate(&self.fixed.hulls[i], &self.moved[j], stop_at),
         }
     }
 }

@@ -116,9 +116,10 @@ fn push_direction(list: &mut Vec<DVec3>, v: DVec3) {
     }
 }
 
-/// SAT on two hulls in the same frame. With `until_separated`, stops at the first axis
-/// that separates or touches (depth ≤ 0; the depth is then only an upper bound).
-pub(super) fn separate(a: &Hull, b: &Hull, until_separated: bool) -> Separation {
+/// SAT on two hulls in the same frame. Stops at the first axis whose overlap is at most
+/// `stop_at` (0: one that separates or touches; `f64::NEG_INFINITY`: never), the depth
+/// then only an upper bound.
+pub(super) fn separate(a: &Hull, b: &Hull, stop_at: f64) -> Separation {
     let mut best = Separation {
         depth: f64::INFINITY,
         axis: DVec3::X,
@@ -154,7 +155,7 @@ pub(super) fn separate(a: &Hull, b: &Hull, until_separated: bool) -> Separation 
     };
     for &n in a.normals.iter().chain(&b.normals) {
         let depth = consider(n);
-        if until_separated && depth <= 0.0 {
+        if depth <= stop_at {
             return Separation::bound(depth, n);
         }
     }
@@ -164,7 +165,7 @@ pub(super) fn separate(a: &Hull, b: &Hull, until_separated: bool) -> Separation 
             let length = c.length();
             if length >= PARALLEL_SIN {
                 let depth = consider(c / length);
-                if until_separated && depth <= 0.0 {
+                if depth <= stop_at {
                     return Separation::bound(depth, c / length);
                 }
             }
@@ -194,5 +195,5 @@ pub(super) fn separate(a: &Hull, b: &Hull, until_separated: bool) -> Separation 
 /// ```
 #[must_use]
 pub fn convex_separation(a: &ConvexPolytope, b: &ConvexPolytope, b_to_a: &DAffine3) -> Separation {
-    separate(&Hull::new(a, None), &Hull::new(b, Some(b_to_a)), false)
+    separate(&Hull::new(a, None), &Hull::new(b, Some(b_to_a)), f64::NEG_INFINITY)
 }

@@ -520,7 +520,7 @@ impl Problem<'_> {
         {
             return Err(Rule::Distance);
         }
-        if self.scene.penetration_depth(&placement) > reach + slack {
+        if self.scene.penetrates_beyond(&placement, reach + slack) {
             return Err(Rule::Penetration);
         }
         Ok(narrowed)
