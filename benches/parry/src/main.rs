@@ -95,10 +95,15 @@ fn fixture(name: &str) -> Result<Part, String> {
 }
 
 fn main() -> Result<(), String> {
-    let poses: usize = std::env::var("ACSG_PARRY_POSES")
-        .ok()
-        .and_then(|n| n.parse().ok())
-        .unwrap_or(2000);
+    let poses: usize = match std::env::var("ACSG_PARRY_POSES") {
+        Ok(n) => n
+            .trim()
+            .parse()
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(|| format!("ACSG_PARRY_POSES: `{n}` is not a positive whole number of poses"))?,
+        Err(_) => 2000,
+    };
     let peg_bounds = Bounds::from_degrees([-2.0, -2.0, 0.0, -2.0, -2.0, -2.0], [2.0, 2.0, 45.0, 2.0, 2.0, 2.0])
         .map_err(|e| e.to_string())?;
     let (l_block, box_part) = acsg::examples::l_block_and_box();
