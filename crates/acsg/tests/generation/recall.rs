@@ -987,3 +987,64 @@ fn dump_oracle_states() {
         }
     }
 }
+
+/// Recall on any pair, on demand: `ACSG_RECALL_PAIR="FIXED;MOVING;BOUNDS"` with the two
+/// parts' paths (relative to `fixtures/` or absolute) and bounds as the CLI takes them
+/// (`x=-2:2,y=-2:2,z=0:45,rx=-2:2,ry=-2:2,rz=-2:2`, angles in degrees, omitted
+/// components fixed at 0). Runs the cross-check, the exclusions' soundness and recall.
+#[test]
+#[ignore = "needs ACSG_RECALL_PAIR; run on demand"]
+fn recall_on_demand() {
+    let Some(spec) = std::env::var_os("ACSG_RECALL_PAIR") else {
+        eprintln!("ACSG_RECALL_PAIR is not set: nothing to check");
+        return;
+    };
+    let spec = spec.to_string_lossy().into_owned();
+    let parts: Vec<&str> = spec.split(';').collect();
+    assert_eq!(
+        parts.len(),
+        3,
+        "ACSG_RECALL_PAIR wants FIXED;MOVING;BOUNDS, got {spec:?}"
+    );
+    let load = |p: &str| {
+        let path = if Path::new(p).is_absolute() {
+            PathBuf::from(p)
+        } else {
+            fixtures().join(p)
+        };
+        Part::from_path(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    };
+    let (mut lo, mut hi) = ([0.0; 6], [0.0; 6]);
+    for item in parts[2].split(',') {
+        let (name, range) = item.split_once('=').expect("component=min:max");
+        let (a, b) = range.split_once(':').expect("min:max");
+        let k = ["x", "y", "z", "rx", "ry", "rz"]
+            .iter()
+            .position(|c| *c == name)
+            .expect("x, y, z, rx, ry or rz");
+        let (a, b): (f64, f64) = (a.parse().expect("a number"), b.parse().expect("a number"));
+        (lo[k], hi[k]) = if k < 3 {
+            (a, b)
+        } else {
+            (a.to_radians(), b.to_radians())
+        };
+    }
+    let bounds = Bounds::try_new(lo, hi).expect("valid bounds");
+    let (fixed, moving) = (load(parts[0]), load(parts[1]));
+    let oracle = Oracle::new(&fixed, &moving, bounds);
+    let report = oracle.run(&oracle.default_slices());
+    eprintln!("{} oracle states", report.states.len());
+    let leak = |s: &str| -> &'static str { Box::leak(s.to_owned().into_boxed_str()) };
+    let run = PairRun {
+        name: leak(&spec),
+        fixed,
+        moving,
+        bounds,
+        files: (leak(parts[0]), leak(parts[1])),
+        report,
+        built_in: false,
+    };
+    run.cross_check();
+    run.exclusions_are_sound();
+    run.recall();
+}
