@@ -404,14 +404,17 @@ impl Linearised<'_, '_> {
     /// the other part; `None` when one is inside whatever the pose in the box.
     fn kept_out(&mut self, through: &super::Through) -> Option<()> {
         let (a, b) = (&self.prover.a, &self.prover.b);
+        // Where each vertex is does not depend on the piece: once per vertex.
+        let moved: Vec<IVec> = b.vertices.iter().map(|&w| self.position(true, w)).collect();
         for j in 0..a.pieces.len() {
-            for &w in &b.vertices {
-                self.keep_out(true, w, j)?;
+            for (&w, at) in b.vertices.iter().zip(&moved) {
+                self.keep_out_at(true, w, at, j)?;
             }
         }
+        let back: Vec<IVec> = a.vertices.iter().map(|&v| self.position(false, v)).collect();
         for j in 0..b.pieces.len() {
-            for &v in &a.vertices {
-                self.keep_out(false, v, j)?;
+            for (&v, at) in a.vertices.iter().zip(&back) {
+                self.keep_out_at(false, v, at, j)?;
             }
         }
         self.edge_points(through)
@@ -439,10 +442,15 @@ impl Linearised<'_, '_> {
     /// plane's row when only one is left, the set of them when several are, `None`
     /// when none is.
     fn keep_out(&mut self, moving: bool, p: DVec3, piece: usize) -> Option<()> {
+        let at = self.position(moving, p);
+        self.keep_out_at(moving, p, &at, piece)
+    }
+
+    /// [`Linearised::keep_out`] with the point's position over the box known (`at`).
+    fn keep_out_at(&mut self, moving: bool, p: DVec3, at: &IVec, piece: usize) -> Option<()> {
         let s = self.prover.slack;
         let other = if moving { &self.prover.a } else { &self.prover.b };
         let (blo, bhi) = other.piece_boxes[piece];
-        let at = self.position(moving, p);
         if !(0..3).all(|k| at[k].hi >= blo[k] - s && at[k].lo <= bhi[k] + s) {
             return Some(());
         }
