@@ -172,6 +172,10 @@ fn convex_pieces_are_exact() {
         ("cube.off", Some(1)),
         ("l_block.stl", Some(2)),
         ("block_with_hole.stl", Some(4)),
+        ("block_with_tight_hole.off", Some(4)),
+        ("block_with_chamfered_hole.off", Some(8)),
+        ("block_with_round_hole.off", None),
+        ("block_with_round_hole.stl", None),
     ] {
         let part = load(name);
         let pieces = part.convex_pieces();

@@ -301,3 +301,32 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// On the round peg in its hole (pieces of many faces, some merged from cells), the
+    /// scene's depth is the deepest pair's depth by the plain SAT on the pieces, which
+    /// tests every face normal and edge pair of both.
+    #[test]
+    fn round_pieces_depth_is_the_plain_sat_of_the_deepest_pair(
+        t in vec3(-1.5, 1.5),
+        z in 0.0..40.0_f64,
+        q in (unit_vector(), -0.05..0.05_f64),
+    ) {
+        let (scene, scale) = round_peg_in_hole();
+        let (fixed, moving) = scene.parts();
+        let pose = DAffine3::from_rotation_translation(DQuat::from_axis_angle(q.0, q.1), t + DVec3::Z * z);
+        let plain = fixed
+            .convex_pieces()
+            .iter()
+            .flat_map(|a| moving.convex_pieces().iter().map(move |b| convex_separation(a, b, &pose).depth))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let depth = scene.penetration_depth(&pose);
+        if plain > -1e-6 * scale {
+            prop_assert!((depth - plain).abs() <= 1e-9 * scale, "{} vs plain {}", depth, plain);
+        } else {
+            prop_assert!(depth < 0.0, "apart by {} yet {}", plain, depth);
+        }
+    }
+}
