@@ -680,7 +680,7 @@ mod tests {
         // directions at the parts' scale: each hull holds the range it stands for, and
         // is not vacuous.
         let mut numbers = Numbers(0x9E37_79B9_7F4A_7C15);
-        let mut unit = |numbers: &mut Numbers| {
+        let unit = |numbers: &mut Numbers| {
             DVec3::new(numbers.next() - 0.5, numbers.next() - 0.5, numbers.next() - 0.5).normalize()
         };
         let mut tightest: f64 = f64::INFINITY;
