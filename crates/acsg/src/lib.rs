@@ -49,6 +49,8 @@ pub mod load;
 pub mod model;
 pub mod pose;
 pub mod task;
+#[cfg(test)]
+mod testing;
 pub mod tolerance;
 pub mod units;
 

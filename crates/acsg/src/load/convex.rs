@@ -264,17 +264,7 @@ mod tests {
         Part::from_path(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
     }
 
-    /// A small deterministic generator of numbers in [0, 1).
-    struct Numbers(u64);
-
-    impl Numbers {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::testing::Numbers;
 
     /// Asserts that a part's pieces are an exact convex decomposition: each convex, their
     /// volumes adding up to the part's, and sample points of the bounding box inside

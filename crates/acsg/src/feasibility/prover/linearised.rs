@@ -626,17 +626,7 @@ fn propagate(rows: &[Row], lo: &mut [f64; VARS], hi: &mut [f64; VARS]) -> Option
 mod tests {
     use super::*;
 
-    /// A small deterministic generator of numbers in [0, 1).
-    struct Numbers(u64);
-
-    impl Numbers {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
+    use crate::testing::Numbers;
 
     #[test]
     fn the_directional_remainder_bounds_the_rotation_off_its_linear_part() {
