@@ -163,7 +163,7 @@ pub(crate) fn decompose(brep: &Brep) -> Vec<ConvexPolytope> {
             .iter()
             .filter_map(|&e| segment_inside(&cell, edge_points(e), depth).map(|s| (e, s)))
             .collect();
-        let cut = match least_splitting_cut(&concave_inside, &polygons, &|e| edge(e).faces, &plane, depth) {
+        let cut = match least_splitting_cut(brep, &concave_inside, &polygons, depth) {
             Some(face) => face,
             None => {
                 // One convex component, unless a face's point lies outside another
@@ -202,21 +202,21 @@ pub(crate) fn decompose(brep: &Brep) -> Vec<ConvexPolytope> {
 /// both sides, so each avoided split saves pieces). Ties go to the first candidate.
 /// `None` when no concave edge crosses the cell.
 fn least_splitting_cut(
+    brep: &Brep,
     concave_inside: &[(EdgeId, [DVec3; 2])],
     polygons: &[Vec<DVec3>],
-    faces_at: &dyn Fn(EdgeId) -> [FaceId; 2],
-    plane: &dyn Fn(FaceId) -> (DVec3, f64),
     depth: f64,
 ) -> Option<FaceId> {
     let mut best: Option<((usize, usize), FaceId)> = None;
     let mut seen = Vec::new();
     for &(e, _) in concave_inside {
-        for f in faces_at(e) {
+        for f in brep.edges[e.index()].faces {
             if seen.contains(&f) {
                 continue;
             }
             seen.push(f);
-            let cut = plane(f);
+            let face = &brep.faces[f.index()];
+            let cut = (face.normal, face.offset);
             let edges = concave_inside.iter().filter(|(_, s)| splits(s, cut, depth)).count();
             if best.is_some_and(|((least, _), _)| edges > least) {
                 continue;
@@ -256,6 +256,7 @@ mod tests {
     use glam::DVec3;
 
     use crate::model::Part;
+    use crate::testing::Numbers;
 
     fn fixture(name: &str) -> Part {
         let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -263,8 +264,6 @@ mod tests {
             .join(name);
         Part::from_path(&path).unwrap_or_else(|e| panic!("{name}: {e}"))
     }
-
-    use crate::testing::Numbers;
 
     /// Asserts that a part's pieces are an exact convex decomposition: each convex, their
     /// volumes adding up to the part's, and sample points of the bounding box inside

@@ -1014,22 +1014,7 @@ fn recall_on_demand() {
         };
         Part::from_path(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
     };
-    let (mut lo, mut hi) = ([0.0; 6], [0.0; 6]);
-    for item in parts[2].split(',') {
-        let (name, range) = item.split_once('=').expect("component=min:max");
-        let (a, b) = range.split_once(':').expect("min:max");
-        let k = ["x", "y", "z", "rx", "ry", "rz"]
-            .iter()
-            .position(|c| *c == name)
-            .expect("x, y, z, rx, ry or rz");
-        let (a, b): (f64, f64) = (a.parse().expect("a number"), b.parse().expect("a number"));
-        (lo[k], hi[k]) = if k < 3 {
-            (a, b)
-        } else {
-            (a.to_radians(), b.to_radians())
-        };
-    }
-    let bounds = Bounds::try_new(lo, hi).expect("valid bounds");
+    let bounds = acsg::task::bounds_from_spec(parts[2]).unwrap_or_else(|e| panic!("ACSG_RECALL_PAIR's bounds: {e}"));
     let (fixed, moving) = (load(parts[0]), load(parts[1]));
     let oracle = Oracle::new(&fixed, &moving, bounds);
     let report = oracle.run(&oracle.default_slices());

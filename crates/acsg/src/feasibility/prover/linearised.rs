@@ -184,8 +184,13 @@ impl Turn {
     fn moving_point_hull(&self, n: DVec3, w: DVec3, lo: &[f64; VARS], hi: &[f64; VARS]) -> Interval {
         let base = n.dot(self.r * w);
         let size = n.length() * w.length();
-        let turns: f64 = (3..VARS).map(|k| lo[k].abs().max(hi[k].abs())).sum();
-        hull(base, n.to_array(), lo, hi, size * turns + self.second(w) * n.length())
+        hull(
+            base,
+            n.to_array(),
+            lo,
+            hi,
+            size * turn_reach(lo, hi) + self.second(w) * n.length(),
+        )
     }
 
     /// An interval that holds [`Turn::on_fixed_point`]`(m, a)`'s range over the box, as
@@ -194,9 +199,8 @@ impl Turn {
         let u = self.r * m;
         let arm = (a - self.t_c).length();
         let size = m.length() * arm;
-        let turns: f64 = (3..VARS).map(|k| lo[k].abs().max(hi[k].abs())).sum();
         let err = self.s * m.length() * self.d + self.second(m) * (arm + 2.0 * self.d);
-        hull(u.dot(a), (-u).to_array(), lo, hi, size * turns + err)
+        hull(u.dot(a), (-u).to_array(), lo, hi, size * turn_reach(lo, hi) + err)
     }
 
     /// `(da × R db) · (a0 − R b0 − t)`: two edges crossing.
@@ -360,13 +364,13 @@ impl Linearised<'_, '_> {
         let (m, s) = (self.prover.margin, self.prover.slack);
         // Most pairs are far apart: a cheap hull of the height's range settles them
         // before the linear form is built (it holds that range, so the same pairs go).
-        let hull = if moving {
+        let rough = if moving {
             self.turn.moving_point_hull(face.0, p, &self.lo, &self.hi)
         } else {
             self.turn.fixed_point_hull(face.0, p, &self.lo, &self.hi)
         }
         .sub(Interval::point(face.1));
-        if hull.lo >= m || hull.hi <= -m {
+        if rough.lo >= m || rough.hi <= -m {
             return;
         }
         let h = self.height(moving, p, face);
@@ -557,6 +561,11 @@ impl Linearised<'_, '_> {
             self.either.extend(new_rows);
         }
     }
+}
+
+/// The largest turn off the box's centre, summed over the three angles (offsets).
+fn turn_reach(lo: &[f64; VARS], hi: &[f64; VARS]) -> f64 {
+    (3..VARS).map(|k| lo[k].abs().max(hi[k].abs())).sum()
 }
 
 /// `base + coef · t ± rest` over the translations of the box, widened for the
