@@ -1013,7 +1013,6 @@ fn tilted_peg_in_the_hole_oracle_witnesses_survive_every_exclusion_rule() {
 }
 
 #[test]
-#[ignore = "issue 12: the generator leaves 1 of its 29 oracle states undecided (e-f e12 f2: the peg's bottom tilted on the rim); un-ignored when it finds them all"]
 fn tilted_peg_in_the_hole_generator_finds_every_oracle_state() {
     pair_run(2).recall();
 }
