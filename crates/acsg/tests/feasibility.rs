@@ -133,3 +133,57 @@ fn the_papers_example_stage_1_has_verified_witnesses() {
     let expected = cube_vertices_where(&box_part, |p| p.z == 50.0 && !(p.x == 50.0 && p.y == 10.0));
     assert_eq!(on_floor, expected);
 }
+
+/// The peg tilted within ±1° over the plain hole can rest its bottom face on the hole's
+/// rim edge (e-f), on a 3-D region of the bounds (x within ±1, y between −2 and −1, any
+/// tilt below 0). Each start puts a point of the edge on a point of the face, which lands
+/// outside the bounds; clamped onto the bounds' side, every start lost the contact (the
+/// edge off the face's plane, the peg over a side rim too) and no search found the
+/// state. Every start must keep the edge in the face's plane, and the search must find
+/// a witness.
+#[test]
+fn starts_outside_the_bounds_keep_their_contact_and_find_the_peg_on_the_rim() {
+    let (block, peg) = (load("block_with_hole.off"), load("peg.off"));
+    let rim = (0..block.edges().len() as u32)
+        .map(acsg::model::EdgeId)
+        .find(|&e| {
+            let [a, b] = block.edge_points(e);
+            let (p, q) = (DVec3::new(35.0, 35.0, 50.0), DVec3::new(65.0, 35.0, 50.0));
+            (a.distance(p) < 1e-9 && b.distance(q) < 1e-9) || (a.distance(q) < 1e-9 && b.distance(p) < 1e-9)
+        })
+        .expect("the rim edge at y = 35");
+    let bottom = peg
+        .faces()
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| f.normal.distance(-DVec3::Z) < 1e-12)
+        .min_by(|a, b| b.1.offset.total_cmp(&a.1.offset))
+        .map(|(i, _)| FaceId(i as u32))
+        .expect("the peg's bottom face");
+    let contact = PrincipalContact {
+        fixed: ElementId::Edge(rim),
+        moving: ElementId::Face(bottom),
+        kind: ContactKind::EdgeFace,
+    };
+    let bounds = acsg::task::bounds_from_spec("x=-2:2,y=-2:2,z=0:45,rx=-1:1").unwrap();
+    let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+    let scale = acsg::model::length_scale(&block, &peg);
+    let face = peg.face(bottom);
+    for start in problem.spread_starts(&[contact], 17) {
+        assert!(bounds.contains(&start, 1e-12, 1e-12), "{start} outside the bounds");
+        // The rim's ends in the peg's frame, against the bottom face's plane.
+        let to_peg = start.to_affine(&DAffine3::IDENTITY).inverse();
+        for end in block.edge_points(rim) {
+            let height = face.normal.dot(to_peg.transform_point3(end)) - face.offset;
+            assert!(
+                height.abs() <= 1e-9 * scale,
+                "at {start} the rim is {height} off the face's plane"
+            );
+        }
+    }
+    let mut stats = SearchStats::default();
+    match problem.find(&[contact], &[], &contact, 8, &mut stats) {
+        acsg::feasibility::Search::Found(pose) => verify(&block, &peg, &bounds, &contact, &pose),
+        _ => panic!("no witness of the peg's bottom on the rim ({stats:?})"),
+    }
+}
