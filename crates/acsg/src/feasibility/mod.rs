@@ -335,27 +335,32 @@ impl<'a> Problem<'a> {
         let mut pose = Pose::from_array([0.0, 0.0, 0.0, angles[0], angles[1], angles[2]]);
         let rotation = pose.rotation();
         let mut t = self.assembled.inverse().transform_point3(goal) - rotation * on_b;
-        let clamped = bounds.clamp(&Pose::from_array([t.x, t.y, t.z, angles[0], angles[1], angles[2]]));
-        if clamped.translation() != t {
-            // Outside the bounds, clamping would put the start on the box's side, where
-            // the contact no longer holds (an edge lying on a face pushed off along
-            // it). Move along the contact's plane instead, towards the point of it
-            // nearest the box's centre, as far as needed to enter the box (so that
-            // different placements stay different starts), then clamp.
-            if let Some(n) = self.contact_normal(anchor, rotation) {
-                let centre = bounds.center().translation();
-                let target = centre + n * n.dot(t - centre);
-                let (lo, hi) = (bounds.min.translation(), bounds.max.translation());
-                let (d, mut enter) = (target - t, 0.0f64);
-                for k in 0..3 {
-                    if d[k] != 0.0 {
-                        let (a, b) = ((lo[k] - t[k]) / d[k], (hi[k] - t[k]) / d[k]);
-                        enter = enter.max(a.min(b));
-                    }
-                }
-                t += d * enter.clamp(0.0, 1.0);
+        pose.x = t.x;
+        pose.y = t.y;
+        pose.z = t.z;
+        let clamped = bounds.clamp(&pose);
+        if clamped.translation() == t {
+            return clamped;
+        }
+        // Outside the bounds, clamping would put the start on the box's side, where the
+        // contact no longer holds (an edge lying on a face pushed off along it). Move
+        // along the contact's plane instead, towards the point of it nearest the box's
+        // centre, as far as needed to enter the box (so that different placements stay
+        // different starts), then clamp.
+        let Some(n) = self.contact_normal(anchor, rotation) else {
+            return clamped;
+        };
+        let centre = bounds.center().translation();
+        let target = centre + n * n.dot(t - centre);
+        let (lo, hi) = (bounds.min.translation(), bounds.max.translation());
+        let (d, mut enter) = (target - t, 0.0f64);
+        for k in 0..3 {
+            if d[k] != 0.0 {
+                let (a, b) = ((lo[k] - t[k]) / d[k], (hi[k] - t[k]) / d[k]);
+                enter = enter.max(a.min(b));
             }
         }
+        t += d * enter.clamp(0.0, 1.0);
         pose.x = t.x;
         pose.y = t.y;
         pose.z = t.z;
@@ -368,21 +373,12 @@ impl<'a> Problem<'a> {
     /// each other (or edges too near parallel).
     fn contact_normal(&self, anchor: &PrincipalContact, rotation: glam::DMat3) -> Option<DVec3> {
         let to_assembled = self.assembled.matrix3.inverse();
-        let direction = |part: &Part, e: ElementId| match e {
-            ElementId::Edge(x) => {
-                let [a, b] = part.edge_points(x);
-                Some(b - a)
-            }
-            _ => None,
-        };
         let n = match (anchor.fixed, anchor.moving) {
             (ElementId::Face(f), _) => to_assembled * self.fixed.face(f).normal,
             (_, ElementId::Face(g)) => rotation * self.moving.face(g).normal,
-            (ElementId::Edge(_), ElementId::Edge(_)) if anchor.kind == ContactKind::EdgeEdge => {
-                let a = to_assembled * direction(self.fixed, anchor.fixed)?;
-                let b = rotation * direction(self.moving, anchor.moving)?;
-                let n = a.cross(b);
-                if n.length() <= 1e-6 * a.length() * b.length() {
+            (ElementId::Edge(e), ElementId::Edge(x)) if anchor.kind == ContactKind::EdgeEdge => {
+                let n = (to_assembled * self.fixed.edge_direction(e)).cross(rotation * self.moving.edge_direction(x));
+                if n.length() <= 1e-6 {
                     return None;
                 }
                 n
