@@ -187,3 +187,75 @@ fn starts_outside_the_bounds_keep_their_contact_and_find_the_peg_on_the_rim() {
         _ => panic!("no witness of the peg's bottom on the rim ({stats:?})"),
     }
 }
+
+#[test]
+fn the_pegs_corner_balanced_on_the_holes_corner_has_no_robust_pose_near_there() {
+    // The peg (28 mm square) over the plain hole (30 mm), turned about z only: at
+    // x = y = -1, z = 40 its bottom corner sits on the hole's top corner, its bottom face
+    // level with the block's top, two of its bottom edges along the rim. The corners
+    // alone (v-v) never hold there: every pose nearby has the edges along the rim or
+    // over the top too close or touching. The box around that pose is smaller than the
+    // separation, so the robustness rule proves it; before it, the box stayed open and
+    // the candidate undecided.
+    let (block, peg) = (load("block_with_hole.off"), load("peg.off"));
+    let bounds = Bounds::from_degrees([-2.0, -2.0, 0.0, 0.0, 0.0, -2.0], [2.0, 2.0, 45.0, 0.0, 0.0, 2.0]).unwrap();
+    let at = |part: &Part, p: DVec3| {
+        let i = part
+            .vertices()
+            .iter()
+            .position(|v| v.position.distance(p) < 1e-9)
+            .unwrap();
+        ElementId::Vertex(VertexId(u32::try_from(i).unwrap()))
+    };
+    let corners = PrincipalContact {
+        fixed: at(&block, DVec3::new(35.0, 35.0, 50.0)),
+        moving: at(&peg, DVec3::new(36.0, 36.0, 10.0)),
+        kind: ContactKind::VertexVertex,
+    };
+    // The box the decision left open before the rule (the corners 3 µm apart, the
+    // peg turned 5e-8 rad).
+    let near = Bounds::try_new(
+        [
+            -1.0000034614805056,
+            -0.9999981110801315,
+            40.00000075,
+            0.0,
+            0.0,
+            -5.44855711300391e-08,
+        ],
+        [
+            -1.0000026752001387,
+            -0.9999973247997626,
+            40.0000015,
+            0.0,
+            0.0,
+            -5.0454419089391815e-08,
+        ],
+    )
+    .unwrap();
+    let (lo, hi) = (near.min.to_array(), near.max.to_array());
+    let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+    assert_eq!(
+        problem.exclusion(&[corners], &near),
+        Some(acsg::feasibility::Rule::Robustness)
+    );
+    // Independently of the rule: at the box's centre and corners the contact module reads
+    // more than the corners touching, or a pair too close to be a witness.
+    let scene = ContactScene::new(&block, &peg);
+    for corner in 0..17u32 {
+        // The 16 corners of the box (x, y, z and the yaw), then its centre.
+        let x: [f64; 6] = std::array::from_fn(|k| match (corner, k) {
+            (16, _) | (_, 3 | 4) => 0.5 * (lo[k] + hi[k]),
+            _ => {
+                let bit = [0, 1, 2, 0, 0, 3][k];
+                if corner >> bit & 1 == 1 { hi[k] } else { lo[k] }
+            }
+        });
+        let pose = Pose::from_array(x);
+        let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+        let clean = report.penetration == 0.0
+            && report.min_gap.is_none_or(|g| g >= SEPARATION_REL * scene.scale())
+            && report.contacts == vec![corners];
+        assert!(!clean, "the corners alone, robustly, at {x:?}");
+    }
+}

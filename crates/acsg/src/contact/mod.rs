@@ -322,6 +322,26 @@ impl<'a> ContactScene<'a> {
         out
     }
 
+    /// Every pair of a fixed and a moving element at most `within` apart (touching or
+    /// not), sorted.
+    #[must_use]
+    pub fn pairs_within(&self, moving_to_fixed: &DAffine3, within: f64) -> Vec<(ElementId, ElementId)> {
+        let moving = PlacedPart::new(self.moving, moving_to_fixed);
+        let mut out = Vec::new();
+        self.bvh.query_pairs(&self.moving_bvh, moving_to_fixed, within, |i, j| {
+            let (a, b) = (self.fixed_elements[i as usize], self.moving_elements[j as usize]);
+            let box_gap = self.fixed_boxes[i as usize].gap(&moving.bounds(b));
+            if box_gap <= within
+                && !touch::apart_by_plane(&self.fixed, a, &moving, b, within)
+                && touch::distance(&self.fixed, a, &moving, b) <= within
+            {
+                out.push((a, b));
+            }
+        });
+        out.sort();
+        out
+    }
+
     /// [`ContactScene::evaluate`] with the smallest gap searched only up to
     /// `gap_search` (a length): `min_gap` is `None` when every pair that does not touch
     /// is at least that far apart. Enough to tell a clean witness (gap at least the

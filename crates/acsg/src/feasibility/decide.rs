@@ -11,7 +11,12 @@
 //!   at most `δ = |Δt| + ρ Σ|Δθ|` over the box (ρ the farthest vertex from the moving
 //!   part's origin), so a contact whose elements are more than `δ` apart at the centre,
 //!   or a pair of convex pieces penetrating by more than `δ` there (the penetration
-//!   depth is 1-Lipschitz in that displacement), rules the whole box out.
+//!   depth is 1-Lipschitz in that displacement), rules the whole box out;
+//! - in a box whose `δ` is below the separation tolerance, a pair of elements that no
+//!   contact of the target holds and that stays closer than that tolerance all over
+//!   the box: every pose there either shows more than the target or is too close to
+//!   read the same with every tolerance, so none is a (robust) witness. The limits of
+//!   larger states (a corner balanced on a corner, with edges along the rim) end here.
 //!
 //! A box that survives is searched by a local optimisation from its centre, within the
 //! box, at every few levels of depth, and split in two. The search ends with a witness,
@@ -24,6 +29,7 @@ use super::prover::Links;
 use super::turns::Turns;
 use super::{Problem, SearchStats};
 use crate::contact::PrincipalContact;
+use crate::model::{ElementId, Part};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, NEAR_REL, scaled};
 
@@ -45,6 +51,12 @@ pub enum Rule {
     /// The parts penetrate at the box's centre by more than any point can move within
     /// the box.
     Penetration,
+    /// The box is smaller than the separation tolerance, and a pair of elements that no
+    /// contact of the target holds stays closer than that tolerance over all of it: at
+    /// every pose there, the pair either touches (another state) or is too close for a
+    /// witness (docs/concepts.md#tolerances), so no pose in the box shows the target
+    /// robustly.
+    Robustness,
 }
 
 /// A proof that no pose in the bounds shows a candidate: the rules that excluded the
@@ -523,7 +535,27 @@ impl Problem<'_> {
         if self.scene.penetrates_beyond(&placement, reach + slack) {
             return Err(Rule::Penetration);
         }
+        let within = self.separation() - reach - slack;
+        if within > 0.0 && self.holds_other_pair(target, &placement, within) {
+            return Err(Rule::Robustness);
+        }
         Ok(narrowed)
+    }
+
+    /// Whether two elements `within` of each other at `placement` are held by none of
+    /// the target's contacts. Where two elements touch, the point lies on a contact of
+    /// the state, in the closures of both the pair's and the contact's elements, so a
+    /// held pair shares a vertex with the contact's element on each part.
+    fn holds_other_pair(&self, target: &[PrincipalContact], placement: &glam::DAffine3, within: f64) -> bool {
+        let shares = |part: &Part, x: ElementId, a: ElementId| {
+            let around = part.closure_vertices(a);
+            part.closure_vertices(x).iter().any(|v| around.contains(v))
+        };
+        self.scene.pairs_within(placement, within).into_iter().any(|(x, y)| {
+            !target
+                .iter()
+                .any(|pc| shares(self.fixed, x, pc.fixed) && shares(self.moving, y, pc.moving))
+        })
     }
 
     /// A witness found by sliding ([`Problem::slide`]) at the centres of a box's eight
