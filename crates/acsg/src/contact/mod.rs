@@ -322,24 +322,11 @@ impl<'a> ContactScene<'a> {
         out
     }
 
-    /// Every pair of a fixed and a moving element at most `within` apart (touching or
-    /// not), sorted.
+    /// Every pair of a fixed and a moving element closer than `within`, touching or
+    /// not, sorted: [`ContactScene::close_pairs`] with no pair counted as touching.
     #[must_use]
     pub fn pairs_within(&self, moving_to_fixed: &DAffine3, within: f64) -> Vec<(ElementId, ElementId)> {
-        let moving = PlacedPart::new(self.moving, moving_to_fixed);
-        let mut out = Vec::new();
-        self.bvh.query_pairs(&self.moving_bvh, moving_to_fixed, within, |i, j| {
-            let (a, b) = (self.fixed_elements[i as usize], self.moving_elements[j as usize]);
-            let box_gap = self.fixed_boxes[i as usize].gap(&moving.bounds(b));
-            if box_gap <= within
-                && !touch::apart_by_plane(&self.fixed, a, &moving, b, within)
-                && touch::distance(&self.fixed, a, &moving, b) <= within
-            {
-                out.push((a, b));
-            }
-        });
-        out.sort();
-        out
+        self.close_pairs(moving_to_fixed, f64::NEG_INFINITY, within)
     }
 
     /// [`ContactScene::evaluate`] with the smallest gap searched only up to
