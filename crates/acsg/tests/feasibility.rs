@@ -259,3 +259,47 @@ fn the_pegs_corner_balanced_on_the_holes_corner_has_no_robust_pose_near_there() 
         assert!(!clean, "the corners alone, robustly, at {x:?}");
     }
 }
+
+/// The peg over the chamfered hole, tilted about y up to 2° and turned about z up to 1°:
+/// one bottom corner alone touches a side wall (y = 35 or y = 65) only where the turns
+/// lift the corner's vertical edge off the wall, and only with the peg pushed towards
+/// the wall and over towards the opposite one (x near its bound). A start placed by the
+/// contact alone sat on the bounds' side, where the peg presses against the wall across
+/// the hole, and every local search from there climbed out of the hole: both singles
+/// stayed undecided, and the independent recall check found them missing. A start
+/// probed for the smallest residual on the contact's plane finds them.
+#[test]
+fn a_tilted_pegs_corner_on_a_side_wall_of_the_chamfered_hole_is_found() {
+    let (block, peg) = (load("block_with_chamfered_hole.off"), load("peg.off"));
+    let wall = |normal: DVec3, offset: f64| {
+        let i = block
+            .faces()
+            .iter()
+            .position(|f| f.normal.distance(normal) < 1e-12 && (f.offset - offset).abs() < 1e-9)
+            .expect("the hole's wall");
+        ElementId::Face(FaceId(i as u32))
+    };
+    let corner = |p: DVec3| {
+        let i = (0..peg.vertices().len() as u32)
+            .find(|&v| peg.vertex(VertexId(v)).position.distance(p) < 1e-12)
+            .expect("the peg's corner");
+        ElementId::Vertex(VertexId(i))
+    };
+    let bounds = acsg::task::bounds_from_spec("x=-2:2,y=-2:2,z=0:45,ry=-2:2,rz=-1:1").unwrap();
+    let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+    for (fixed, moving) in [
+        (wall(DVec3::Y, 35.0), corner(DVec3::new(36.0, 36.0, 10.0))),
+        (wall(-DVec3::Y, -65.0), corner(DVec3::new(36.0, 64.0, 10.0))),
+    ] {
+        let contact = PrincipalContact {
+            fixed,
+            moving,
+            kind: ContactKind::FaceVertex,
+        };
+        let mut stats = SearchStats::default();
+        match problem.find(&[contact], &[], &contact, 17, &mut stats) {
+            acsg::feasibility::Search::Found(pose) => verify(&block, &peg, &bounds, &contact, &pose),
+            _ => panic!("no witness of {contact:?} ({stats:?})"),
+        }
+    }
+}

@@ -212,12 +212,57 @@ impl Problem<'_> {
                 others,
             };
         };
-        let witnessed = |pose| Decided {
-            decision: Decision::Witnessed(pose),
-            others: Vec::new(),
+        if let Some(pose) = self.witness_below(target, state, witness, &mut others, stats) {
+            return Decided {
+                decision: Decision::Witnessed(pose),
+                others,
+            };
+        }
+        let starts = Starts {
+            warm: &[witness],
+            anchor,
+            constructive: 2,
+            boost: 1,
         };
+        let decision = self.decide_within(target, &starts, &self.bounds, &mut others, stats);
+        Decided { decision, others }
+    }
+
+    /// [`Problem::decide_below`] without the search over the whole bounds, for a
+    /// candidate that one left undecided already: a witness next to the state's, or
+    /// undecided (with the whole bounds open).
+    pub(crate) fn retry_below(
+        &self,
+        target: &[PrincipalContact],
+        state: &[PrincipalContact],
+        witness: Pose,
+        stats: &mut SearchStats,
+    ) -> Decided {
+        let mut others = Vec::new();
+        let decision = match self.witness_below(target, state, witness, &mut others, stats) {
+            Some(pose) => Decision::Witnessed(pose),
+            None => Decision::Undecided(self.bounds),
+        };
+        Decided { decision, others }
+    }
+
+    /// A witness of `target`, one contact below a known `state` with witness
+    /// `witness`, found next to that witness: by pushing the other contact apart, then
+    /// within small boxes around it. What a candidate left undecided over the whole
+    /// bounds is searched again with once a state above it turns up: where a state
+    /// holds, the states one contact below it hold beside it (the contacts' conditions
+    /// are independent there), often in a sliver the search over the bounds misses.
+    pub(crate) fn witness_below(
+        &self,
+        target: &[PrincipalContact],
+        state: &[PrincipalContact],
+        witness: Pose,
+        others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        stats: &mut SearchStats,
+    ) -> Option<Pose> {
+        let anchor = target.first()?;
         match self.find_below(target, state, witness, stats) {
-            super::Search::Found(pose) => return witnessed(pose),
+            super::Search::Found(pose) => return Some(pose),
             super::Search::NotFound { others: seen } => others.extend(seen),
             super::Search::Unreachable => {}
         }
@@ -227,14 +272,7 @@ impl Problem<'_> {
             constructive: 2,
             boost: 1,
         };
-        if let Some(pose) = self.decide_near(target, &starts, witness, &mut others, stats) {
-            return Decided {
-                decision: Decision::Witnessed(pose),
-                others,
-            };
-        }
-        let decision = self.decide_within(target, &starts, &self.bounds, &mut others, stats);
-        Decided { decision, others }
+        self.decide_near(target, &starts, witness, others, stats)
     }
 
     /// A witness of `target` within small boxes around `pose`: 1e-4 then a hundred
@@ -308,7 +346,11 @@ impl Problem<'_> {
             .chain(target.iter().copied().filter(|pc| pc != starts.anchor))
             .collect();
         let constructive = self.starts(&anchors, starts.constructive, bounds);
-        for start in starts.warm.iter().copied().chain(constructive) {
+        let probed = constructive
+            .into_iter()
+            .enumerate()
+            .map(|(i, start)| self.probed(target, &anchors[i % anchors.len()], start, bounds));
+        for start in starts.warm.iter().copied().chain(probed) {
             if let Some(pose) = self.search_from(target, start, bounds, others, stats) {
                 return Decision::Witnessed(pose);
             }
@@ -581,7 +623,10 @@ impl Problem<'_> {
     fn box_start(&self, target: &[PrincipalContact], b: &Bounds, k: usize) -> Pose {
         let c = b.center().to_array();
         match target.get(k % target.len().max(1)) {
-            Some(anchor) => self.placed(anchor, k / target.len(), [c[3], c[4], c[5]], b),
+            Some(anchor) => {
+                let placed = self.placed(anchor, k / target.len(), [c[3], c[4], c[5]], b);
+                self.probed(target, anchor, placed, b)
+            }
             None => b.center(),
         }
     }

@@ -345,8 +345,9 @@ impl<'a> Problem<'a> {
         // Outside the bounds, clamping would put the start on the box's side, where the
         // contact no longer holds (an edge lying on a face pushed off along it). Move
         // along the contact's plane instead, towards the point of it nearest the box's
-        // centre, as far as needed to enter the box (so that different placements stay
-        // different starts), then clamp.
+        // centre, to halfway between where the line enters the box and that point (so
+        // that different placements stay different starts, and none starts on the
+        // box's side, where tight bounds press the parts together), then clamp.
         let Some(n) = self.contact_normal(anchor, rotation) else {
             return clamped;
         };
@@ -360,11 +361,63 @@ impl<'a> Problem<'a> {
                 enter = enter.max(a.min(b));
             }
         }
-        t += d * enter.clamp(0.0, 1.0);
+        let enter = enter.clamp(0.0, 1.0);
+        t += d * (0.5 * (enter + 1.0));
         pose.x = t.x;
         pose.y = t.y;
         pose.z = t.z;
         bounds.clamp(&pose)
+    }
+
+    /// The start among `start` and a grid of translations on the plane through it on
+    /// which the anchor contact's points stay together (at its rotation, within
+    /// `bounds`) where the target's residuals, penetration included, are smallest: in
+    /// tight bounds (a peg in a hole) a start placed by the contact alone often presses
+    /// the parts together, and a local optimisation from there climbs out of the hole
+    /// rather than finding the pose deeper down where the target holds.
+    pub(crate) fn probed(
+        &self,
+        target: &[PrincipalContact],
+        anchor: &PrincipalContact,
+        start: Pose,
+        bounds: &Bounds,
+    ) -> Pose {
+        let Some(n) = self.contact_normal(anchor, start.rotation()) else {
+            return start;
+        };
+        let (lo, hi, t) = (bounds.min.translation(), bounds.max.translation(), start.translation());
+        // The plane as a height over the two axes it is least steep along.
+        let k = (0..3).fold(0, |k, j| if n[j].abs() > n[k].abs() { j } else { k });
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let mut out = Vec::new();
+        let mut score = |pose: &Pose| {
+            self.residuals(target, pose, SEARCH_MARGIN_REL * self.scale, true, &mut out);
+            out.iter().map(|r| r * r).sum::<f64>()
+        };
+        let mut best = (score(&start), start);
+        let at = |k: usize, step: usize| lo[k] + (hi[k] - lo[k]) * (step as f64 + 0.5) / PROBE_GRID as f64;
+        for a in 0..PROBE_GRID {
+            for b in 0..PROBE_GRID {
+                let (u, v) = (at(i, a), at(j, b));
+                let w = t[k] + (n[i] * (t[i] - u) + n[j] * (t[j] - v)) / n[k];
+                if !(lo[k]..=hi[k]).contains(&w) {
+                    continue;
+                }
+                let mut p = DVec3::ZERO;
+                (p[i], p[j], p[k]) = (u, v, w);
+                let pose = Pose {
+                    x: p.x,
+                    y: p.y,
+                    z: p.z,
+                    ..start
+                };
+                let s = score(&pose);
+                if s < best.0 {
+                    best = (s, pose);
+                }
+            }
+        }
+        best.1
     }
 
     /// The unit normal of the plane of translations (in the assembled frame) on which a
@@ -757,6 +810,9 @@ impl<'a> Problem<'a> {
 /// The loosest touching tolerance a checker may use, relative to L: just under the
 /// separation. A witness reads the same state with it as with [`CONTACT_REL`].
 const LOOSE_CONTACT_REL: f64 = 0.99 * SEPARATION_REL;
+
+/// Points per side of the grid of translations [`Problem::probed`] tries.
+const PROBE_GRID: usize = 7;
 
 /// How far (relative to L) the optimiser keeps contact points inside their elements.
 const SEARCH_MARGIN_REL: f64 = 1e-3;
