@@ -101,6 +101,40 @@ impl<'a> Store<'a> {
         self.seen.insert(contacts.to_vec())
     }
 
+    /// Whether a candidate was left undecided (and no state of it has turned up since).
+    pub fn is_undecided(&self, contacts: &[PrincipalContact]) -> bool {
+        !self.index.contains_key(contacts) && self.undecided.iter().any(|u| u.contacts == contacts)
+    }
+
+    /// Records what a second search for a candidate left undecided found (not
+    /// counted as a candidate again): a witness makes it a state (it leaves the
+    /// undecided list when the graph is finished); any other end leaves the first
+    /// record as it was. The states met on the way are added. How many states are new.
+    pub fn record_again(&mut self, target: Vec<PrincipalContact>, decided: Decided, problem: &Problem<'_>) -> Recorded {
+        let mut recorded = Recorded::default();
+        if let Decision::Witnessed(pose) = decided.decision {
+            recorded.witnessed = true;
+            recorded.new += usize::from(matches!(self.add_state(target, pose, problem), Some((_, true))));
+        }
+        self.record_others(recorded, decided.others, problem)
+    }
+
+    /// Adds the states met on the way to `recorded`'s count.
+    fn record_others(
+        &mut self,
+        mut recorded: Recorded,
+        others: Vec<(Vec<PrincipalContact>, Pose)>,
+        problem: &Problem<'_>,
+    ) -> Recorded {
+        for (state, pose) in others {
+            if let Some((_, true)) = self.add_state(state, pose, problem) {
+                self.stats.found_on_the_way += 1;
+                recorded.new += 1;
+            }
+        }
+        recorded
+    }
+
     /// Whether a state holds a degenerate contact.
     pub fn is_degenerate(&self, contacts: &[PrincipalContact]) -> bool {
         contacts.iter().any(|pc| pc.degenerate(self.fixed, self.moving))
@@ -181,13 +215,7 @@ impl<'a> Store<'a> {
             Decision::Infeasible(_) => self.stats.infeasible += 1,
             Decision::Undecided(open) => self.undecided.push(Undecided { contacts: target, open }),
         }
-        for (state, pose) in decided.others {
-            if let Some((_, true)) = self.add_state(state, pose, problem) {
-                self.stats.found_on_the_way += 1;
-                recorded.new += 1;
-            }
-        }
-        recorded
+        self.record_others(recorded, decided.others, problem)
     }
 
     /// Ends stage 1: its time is taken, and stage 2's begins.

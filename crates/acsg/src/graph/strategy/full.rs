@@ -49,9 +49,10 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
     // Stage 2: every state grown by every single contact found, until nothing new
     // appears; then every state searched one contact below, and grown again.
     let mut grown = Vec::new();
+    let mut retried = BTreeSet::new();
     loop {
         grow(store, problem, &mut grown, progress);
-        if descend(store, problem) == 0 {
+        if descend(store, problem, &mut retried) == 0 {
             break;
         }
     }
@@ -100,9 +101,14 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
 
 /// For every known state with several contacts, its subsets one contact smaller that
 /// are neither states nor candidates yet, each decided: first pushed apart from the
-/// state's witness, then in small boxes around it, then over the whole bounds. The new
-/// states.
-fn descend(store: &mut Store<'_>, problem: &Problem<'_>) -> usize {
+/// state's witness, then in small boxes around it, then over the whole bounds. Subsets
+/// left undecided before are searched again next to each state above them (`retried`
+/// holds the pairs of subset and state tried). The new states.
+fn descend(
+    store: &mut Store<'_>,
+    problem: &Problem<'_>,
+    retried: &mut BTreeSet<(Vec<PrincipalContact>, usize)>,
+) -> usize {
     let mut candidates = Vec::new();
     for s in 0..store.states().len() {
         let state = &store.states()[s];
@@ -114,30 +120,42 @@ fn descend(store: &mut Store<'_>, problem: &Problem<'_>) -> usize {
         for skip in 0..contacts.len() {
             let mut target = contacts.clone();
             target.remove(skip);
-            if store.leaves_out(&target) || !store.take_up(&target) {
+            if store.leaves_out(&target) {
                 continue;
             }
-            candidates.push((target, id, witness));
+            if store.take_up(&target) {
+                candidates.push((target, id, witness, false));
+            } else if store.is_undecided(&target) && retried.insert((target.clone(), id)) {
+                candidates.push((target, id, witness, true));
+            }
         }
     }
     let states = store.states();
     let results: Vec<(Decided, SearchStats)> = candidates
         .par_iter()
-        .map(|(target, from, witness)| {
+        .map(|(target, from, witness, again)| {
             let mut stats = SearchStats::default();
             let above = &states[*from].contacts;
-            let decided = problem.decide_below(target, above, *witness, &mut stats);
+            let decided = if *again {
+                problem.retry_below(target, above, *witness, &mut stats)
+            } else {
+                problem.decide_below(target, above, *witness, &mut stats)
+            };
             (decided, stats)
         })
         .collect();
     let mut new = 0;
-    for ((target, _, _), (decided, stats)) in candidates.into_iter().zip(results) {
+    for ((target, _, _, again), (decided, stats)) in candidates.into_iter().zip(results) {
         let counts = &mut store.stats;
         counts.descents += 1;
         counts.stage2_searched += usize::from(stats.optimisations > 0);
         counts.stage2_optimisations += stats.optimisations;
         counts.boxes += stats.boxes;
-        let recorded = store.record(target, decided, problem);
+        let recorded = if again {
+            store.record_again(target, decided, problem)
+        } else {
+            store.record(target, decided, problem)
+        };
         store.stats.found_by_descent += usize::from(recorded.witnessed && recorded.new > 0);
         new += recorded.new;
     }
