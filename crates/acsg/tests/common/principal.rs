@@ -571,6 +571,16 @@ impl<'a> Evaluator<'a> {
             if end < self.robust {
                 scan.non_robust(|| format!("edges e{i} and e{j} cross {end:e} from an end"));
             }
+            // Edges so near parallel that an end of one lies within the robustness gap
+            // of the other stay that close all the way from the crossing to that end: a
+            // looser checker reads them touching along the stretch, up to the end's
+            // own contact (a corner on a corner with the edges along each other).
+            let end_near = [(p0, q0, q1), (p1, q0, q1), (q0, p0, p1), (q1, p0, p1)]
+                .iter()
+                .any(|&(x, a, b)| point_segment(x, a, b) < self.robust);
+            if end_near {
+                scan.non_robust(|| format!("edges e{i} and e{j} cross, an end within the robustness gap of the other"));
+            }
             Meet::Point(c)
         };
         scan.touches.push(Touch {

@@ -292,6 +292,30 @@ fn the_evaluator_reads_hand_made_poses() {
     assert_eq!(at(pose), Verdict::State(expected));
 }
 
+/// The peg's bottom corner on the plain hole's top corner (65, 65, 50), turned by about
+/// 1e-5 rad: the corner's bottom edge along x and the rim edge along x stay within
+/// 2e-9 mm of each other from the corner out, and their closest points lie just over
+/// 1e-6 L from it. A checker with a tolerance near 1e-6 L reads them touching all the
+/// way to the corners, the library's reads the corners alone, this one read a crossing
+/// as well: the pose is not robust, and the evaluator must say so.
+#[test]
+fn the_evaluator_calls_nearly_parallel_edges_crossing_next_to_a_corner_not_robust() {
+    let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+    let eval = Evaluator::new(&block, &peg);
+    let pose = Pose::from_array([
+        0.9999389300078292,
+        0.9998721879617135,
+        40.00120891907241,
+        -0.000012781726620217566,
+        0.000006107618209107185,
+        0.0,
+    ]);
+    match eval.evaluate(&pose) {
+        Verdict::NonRobust(why) => assert!(why.contains("robustness gap of the other"), "{why}"),
+        other => panic!("read {other:?}"),
+    }
+}
+
 #[test]
 fn the_evaluator_reads_a_vertex_on_the_slab_and_an_edge_crossing() {
     let (slab, cube) = acsg::examples::cube_and_slab();
