@@ -202,30 +202,25 @@ impl Problem<'_> {
         witness: Pose,
         stats: &mut SearchStats,
     ) -> Decided {
-        let mut others = Vec::new();
-        let Some(anchor) = target.first() else {
-            return Decided {
-                decision: Decision::Infeasible(Proof {
-                    rules: BTreeSet::new(),
-                    boxes: 0,
-                }),
-                others,
-            };
-        };
-        if let Some(pose) = self.witness_below(target, state, witness, &mut others, stats) {
-            return Decided {
-                decision: Decision::Witnessed(pose),
-                others,
-            };
+        let mut decided = self.retry_below(target, state, witness, stats);
+        if !matches!(decided.decision, Decision::Undecided(_)) {
+            return decided;
         }
+        let Some(anchor) = target.first() else {
+            decided.decision = Decision::Infeasible(Proof {
+                rules: BTreeSet::new(),
+                boxes: 0,
+            });
+            return decided;
+        };
         let starts = Starts {
             warm: &[witness],
             anchor,
             constructive: 2,
             boost: 1,
         };
-        let decision = self.decide_within(target, &starts, &self.bounds, &mut others, stats);
-        Decided { decision, others }
+        decided.decision = self.decide_within(target, &starts, &self.bounds, &mut decided.others, stats);
+        decided
     }
 
     /// [`Problem::decide_below`] without the search over the whole bounds, for a
