@@ -117,7 +117,8 @@ pub struct Stats {
     /// States found while searching for another.
     pub found_on_the_way: usize,
     /// Stage-2 searches for a state one contact below a known one, started from its
-    /// witness (after the breadth-first growth settles).
+    /// witness (after the breadth-first growth settles), retries of candidates left
+    /// undecided included.
     pub descents: usize,
     /// States found by those searches.
     pub found_by_descent: usize,

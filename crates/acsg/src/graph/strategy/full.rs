@@ -148,7 +148,8 @@ fn descend(
     for ((target, _, _, again), (decided, stats)) in candidates.into_iter().zip(results) {
         let counts = &mut store.stats;
         counts.descents += 1;
-        counts.stage2_searched += usize::from(stats.optimisations > 0);
+        // A retried candidate was counted as searched when it was first decided.
+        counts.stage2_searched += usize::from(stats.optimisations > 0 && !again);
         counts.stage2_optimisations += stats.optimisations;
         counts.boxes += stats.boxes;
         let recorded = if again {
