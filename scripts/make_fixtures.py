@@ -331,6 +331,33 @@ def block_with_tight_hole_mesh():
     return holed_block_mesh("block_with_tight_hole", rings, [0, 1, 2, 3])
 
 
+def cross_ring(a, b, c, d):
+    """The outline of a plus sign, CCW seen from +z: arms between a and b (a < b)
+    reaching from c to d (c < a, b < d), starting at the lower arm's tip."""
+    return [(a, c), (b, c), (b, a), (d, a), (d, b), (b, b), (b, d), (a, d), (a, b), (c, b), (c, a), (a, a)]
+
+
+def plus_peg_mesh():
+    # arms x or y in [40,60], reaching from 25 to 75; z[10,90]
+    ring = cross_ring(40, 60, 25, 75)
+    n = len(ring)
+    verts = [(x, y, 10) for x, y in ring] + [(x, y, 90) for x, y in ring]
+    polys = [list(range(n - 1, -1, -1)),                 # bottom z=10, normal -z
+             list(range(n, 2 * n))]                      # top z=90, normal +z
+    for k in range(n):
+        j = (k + 1) % n
+        polys.append([k, j, n + j, n + k])               # sides, outward
+    return Mesh("plus_peg", verts, polys)
+
+
+def block_with_plus_hole_mesh():
+    # the peg's outline grown by 1 on every side: arms [39,61], reaching from 24 to 76;
+    # corners (0,0), (100,0), (100,100), (0,100) joined to the hole's inner corners
+    # (39,39), (61,39), (61,61), (39,61): ring indices 11, 2, 5, 8
+    rings = [(0, cross_ring(39, 61, 24, 76)), (50, cross_ring(39, 61, 24, 76))]
+    return holed_block_mesh("block_with_plus_hole", rings, [11, 14, 17, 20])
+
+
 def round_peg_mesh(n_sides=N_ROUND, name="round_peg"):
     ring = ngon_xy(50, 50, Decimal(14), n_sides)
     n = len(ring)
@@ -871,6 +898,9 @@ GOOD = [
      100 * 100 * 50 - 30 * 30 * 45 - F(5, 3) * (900 + 1600 + 1200), (14, 2, 20, 8, 32, 24, 8)),
     # hole side 64.125 - 35.875 = 28.25 = 113/4
     (block_with_tight_hole_mesh(), 100 * 100 * 50 - F(113, 4) ** 2 * 50, (10, 2, 16, 8, 24, 20, 4)),
+    # plus outlines: 20 * 50 + 2 * 15 * 20 = 1600 (peg), 22 * 52 + 2 * 15 * 22 = 1804 (hole)
+    (plus_peg_mesh(), 1600 * 80, (14, 0, 24, 16, 36, 32, 4)),
+    (block_with_plus_hole_mesh(), 100 * 100 * 50 - 1804 * 50, (18, 2, 32, 16, 48, 40, 8)),
 ]
 BINARY = {"l_block", "box"}
 PLY = {"l_block"}
@@ -897,7 +927,7 @@ GOOD += [
 ]
 ROUND = {"round_peg", "block_with_round_hole"}
 NO_OBJ = {"block_with_chamfered_hole", "round_peg", "block_with_round_hole",
-          "block_with_tight_hole"}  # .off + .stl only
+          "block_with_tight_hole", "plus_peg", "block_with_plus_hole"}  # .off + .stl only
 
 
 # The scaling series (the `scale` benchmark): an n-gon peg over a block with a
@@ -1045,6 +1075,10 @@ DESCRIPTIONS = {
     "block_with_round_hole": "block x,y[0,100] z[0,50], 32-sided prism hole of circumradius 15 (same phase) for "
                              "z[0,47], 45 deg chamfer of depth 3 to apothem 15 cos(pi/32) + 3 at z=50 (part A; "
                              "goes with `round_peg`)",
+    "plus_peg": "prism of a plus-sign outline: arms x or y in [40,60] reaching from 25 to 75, z[10,90] (part B)",
+    "block_with_plus_hole": "block x,y[0,100] z[0,50] with a plus-shaped through-hole, the peg's outline grown "
+                            "by 1 on every side (arms [39,61] reaching from 24 to 76): 1 mm clearance on every "
+                            "side, so three parallel walls touch at once (part A; goes with `plus_peg`)",
 }
 
 
@@ -1085,7 +1119,7 @@ def readme_text():
              "Do not edit by hand; rerun the script. Units: mm. A and B parts are given in the same "
              "frame at the assembled pose (A fixed, B moving): `l_block` + `box`, `block_with_hole` + `peg`, "
              "`block_with_chamfered_hole` + `peg`, `block_with_round_hole` + `round_peg`, "
-             "`block_with_tight_hole` + `peg`.")
+             "`block_with_tight_hole` + `peg`, `block_with_plus_hole` + `plus_peg`.")
     L.append("")
     L.append("`scale/` holds the scaling series of the `scale` benchmark: `round_peg_N` + "
              "`block_with_round_hole_N` for N = " + ", ".join(str(n) for n in SCALE_SIDES) + ", built as the "
@@ -1107,8 +1141,9 @@ def readme_text():
              "trapezoids, and of "
              "`block_with_round_hole`, each split into 4 non-convex 11-gons (2 block corners + 9 hole vertices, "
              "cut along the joins from the block corners to the hole vertices at 45/135/225/315 deg); "
-             "no T-junctions. The four newer models (`block_with_chamfered_hole`, `round_peg`, "
-             "`block_with_round_hole`, `block_with_tight_hole`) have `.off` and `.stl` only.")
+             "no T-junctions. The newer models (`block_with_chamfered_hole`, `round_peg`, "
+             "`block_with_round_hole`, `block_with_tight_hole`, `plus_peg`, `block_with_plus_hole`) have `.off` "
+             "and `.stl` only.")
     L.append("* `.stl` (ASCII): polygons triangulated (fan for convex, ear clipping for the L caps and the "
              "11-gons) and then refined once by 1-to-4 midpoint subdivision (conforming). Readers must merge "
              "coplanar triangles and the vertices that only split straight edges. For the round parts each "
@@ -1189,6 +1224,20 @@ def readme_text():
              "the height 3 (z 47..50), i.e. the top 32-gon has apothem 15 cos(pi/32) + 3 and circumradius "
              "15 + 3/cos(pi/32). Volume = 100*100*50 - 47 A(15) - 3/3 (A(15) + A(R_top) + sqrt(A(15) A(R_top))). "
              "Radial clearance to `round_peg`: 15 - 14 = 1 at the corners, cos(pi/32) ~ 0.995 across the flats.")
+    L.append("* `plus_peg`: the plus outline has 12 corners, 8 convex (90 deg) and 4 reflex (the inner corners "
+             "(40,40), (60,40), (60,60), (40,60), 270 deg): 2 caps + 12 sides = 14 faces, 12 x 2 = 24 vertices, "
+             "12 x 2 rim + 12 vertical = 36 edges (24 - 36 + 14 = 2). The 4 vertical edges at the reflex corners "
+             "are concave, the other 32 convex; their 8 end vertices are not convex, so 16 convex vertices. "
+             "Volume 80 x (20 x 50 + 2 x 15 x 20) = 80 x 1600 = 128,000.")
+    L.append("* `block_with_plus_hole`: 4 outer walls + top + bottom + 12 hole walls = 18 faces, 2 with holes; "
+             "8 + 12 x 2 = 32 vertices; 12 outer + 12 top rim + 12 bottom rim + 12 vertical hole edges = 48 "
+             "edges (32 - 48 + 18 - 2 = 0, genus 1). Seen from the material, the hole's 8 convex corners (the "
+             "arms' ends) make 270 deg: 8 concave vertical edges; its 4 reflex corners (39,39), (61,39), "
+             "(61,61), (39,61) make 90 deg: convex, like every rim. So 40 convex and 8 concave edges; the 16 "
+             "ends of the concave edges are not convex, leaving 8 outer + 8 = 16 convex vertices. Volume "
+             "100 x 100 x 50 - 50 x (22 x 52 + 2 x 15 x 22) = 500,000 - 50 x 1804 = 409,800. The top and "
+             "bottom are each split into 4 non-convex hexagons by the joins from the block corners to the "
+             "hole's reflex corners.")
     L.append("")
     L.append("## Bad inputs (`bad/`)")
     L.append("")

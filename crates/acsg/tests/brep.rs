@@ -108,6 +108,21 @@ fn block_with_a_through_hole_has_two_holed_faces_and_four_concave_edges() {
 }
 
 #[test]
+fn the_plus_peg_and_its_hole_give_the_hand_derived_counts_from_every_format() {
+    for (name, expected, volume) in [
+        ("plus_peg", (14, 0, 24, 16, 36, 32, 4), 128_000.0),
+        ("block_with_plus_hole", (18, 2, 32, 16, 48, 40, 8), 409_800.0),
+    ] {
+        let parts = ["off", "stl"].map(|ext| load(&format!("{name}.{ext}")));
+        for part in &parts {
+            assert_eq!(counts(part), expected, "{name}");
+            assert_near!(part.volume(), volume, 1e-6);
+        }
+        assert_eq!(geometry(&parts[0]), geometry(&parts[1]), "{name}: the formats differ");
+    }
+}
+
+#[test]
 fn other_fixtures_are_boxes() {
     for (name, volume) in [
         ("peg.off", 62_720.0),

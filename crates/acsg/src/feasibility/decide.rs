@@ -69,6 +69,16 @@ pub struct Proof {
     pub boxes: usize,
 }
 
+impl Proof {
+    /// Whether the proof may lean on other pairs of elements keeping apart (the pairs
+    /// a witness keeps apart, in propagation; the robustness rule): then it rules out
+    /// the candidate alone, not the states holding it with more contacts.
+    #[must_use]
+    pub fn leans_on_others_apart(&self) -> bool {
+        self.rules.contains(&Rule::Propagation) || self.rules.contains(&Rule::Robustness)
+    }
+}
+
 /// How the decision of one candidate ended.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Decision {
@@ -295,6 +305,72 @@ impl Problem<'_> {
             }
         }
         None
+    }
+
+    /// Whether no pose in the bounds has `target`'s contacts holding (robustly, inside
+    /// their elements), whatever other pairs touch: the cheap proofs only (rigid
+    /// distances, the rotation conditions, propagation without the pairs a witness
+    /// keeps apart), split in rotation within the first budget of boxes. False when
+    /// they do not settle it.
+    pub(crate) fn never_holds(&self, target: &[PrincipalContact], stats: &mut SearchStats) -> bool {
+        let conditions = match self.conditions(target) {
+            Ok(conditions) => Conditions {
+                links: conditions.links.without_apart(),
+                turns: conditions.turns,
+            },
+            Err(_) => return true,
+        };
+        let mut branching = Branching {
+            open: std::collections::VecDeque::from([(self.bounds, 0)]),
+            examined: 0,
+            rules: BTreeSet::new(),
+            leaves: Vec::new(),
+        };
+        let mut others = Vec::new();
+        matches!(
+            self.branch(
+                target,
+                &conditions,
+                Mode::Rotations,
+                &mut branching,
+                PRUNE_BUDGET,
+                None,
+                &mut others,
+                stats,
+            ),
+            Some(Decision::Infeasible(_))
+        )
+    }
+
+    /// The states met where `target`'s contacts hold with others touching too: local
+    /// optimisations of its contacts alone (other pairs may touch), from `count`
+    /// constructive starts, each pose read by the contact module and kept when it is a
+    /// clean witness of a state holding every contact of `target`. A contact that never
+    /// holds alone, because others come with it wherever it holds (faces at the same
+    /// clearance, two feet on one floor), occurs only in such states: the decision of
+    /// the contact on its own, which proves that no pose shows it alone, says nothing
+    /// of them.
+    pub(crate) fn states_containing(
+        &self,
+        target: &[PrincipalContact],
+        count: usize,
+        stats: &mut SearchStats,
+    ) -> Vec<(Vec<PrincipalContact>, Pose)> {
+        let mut found: Vec<(Vec<PrincipalContact>, Pose)> = Vec::new();
+        if target.is_empty() {
+            return found;
+        }
+        let anchors: Vec<PrincipalContact> = target.to_vec();
+        for (i, start) in self.starts(&anchors, count, &self.bounds).into_iter().enumerate() {
+            let start = self.probed(target, &anchors[i % anchors.len()], start, &self.bounds);
+            let pose = self.solve_from(target, start, &self.bounds, stats);
+            let Some(state) = self.verify(&pose) else { continue };
+            let holds = target.iter().all(|pc| state.binary_search(pc).is_ok());
+            if holds && !found.iter().any(|(known, _)| *known == state) {
+                found.push((state, pose));
+            }
+        }
+        found
     }
 
     pub(crate) fn decide_within(

@@ -56,6 +56,15 @@ pub(crate) struct Links {
     straddles: Vec<Straddle>,
 }
 
+impl Links {
+    /// The same constraints without the pairs a witness keeps apart: what holds
+    /// wherever the target's contacts hold, other pairs touching or not.
+    pub fn without_apart(mut self) -> Links {
+        self.apart.clear();
+        self
+    }
+}
+
 /// A segment of one part that crosses a plane of the other through the contact: an
 /// edge crossing another edge meets every plane through the other's line at the
 /// crossing point, so its ends lie on both sides of each such plane (or on it). The

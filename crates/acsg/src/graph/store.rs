@@ -29,7 +29,7 @@ pub(crate) struct Store<'a> {
     undecided: Vec<Undecided>,
     /// Every single-contact state found, with its witness, in the order found: what
     /// growth adds to states.
-    singles: Vec<(PrincipalContact, Pose)>,
+    units: Vec<(Vec<PrincipalContact>, Pose)>,
     /// Counts: the store keeps those of the graph and the completeness record, the
     /// strategy adds those of its own work.
     pub stats: Stats,
@@ -50,7 +50,7 @@ impl<'a> Store<'a> {
             index: HashMap::new(),
             seen: BTreeSet::new(),
             undecided: Vec::new(),
-            singles: Vec::new(),
+            units: Vec::new(),
             stats: Stats::default(),
             clock: Instant::now(),
         };
@@ -85,9 +85,27 @@ impl<'a> Store<'a> {
         &self.states
     }
 
-    /// The single-contact states found, with their witnesses, in the order found.
-    pub fn singles(&self) -> &[(PrincipalContact, Pose)] {
-        &self.singles
+    /// What states are grown by, with their witnesses, in the order found: every
+    /// single-contact state, and every state holding a contact that never holds
+    /// alone (see [`Store::add_unit`]).
+    pub fn units(&self) -> &[(Vec<PrincipalContact>, Pose)] {
+        &self.units
+    }
+
+    /// Adds a verified state as a unit of growth: a state found holding a single
+    /// contact that no pose shows alone (faces at the same clearance come together),
+    /// so that the states holding it are grown from it as from a single contact.
+    /// Whether it was new as a state.
+    pub fn add_unit(&mut self, contacts: Vec<PrincipalContact>, witness: Pose, problem: &Problem<'_>) -> bool {
+        let Some((id, new)) = self.add_state(contacts, witness, problem) else {
+            return false;
+        };
+        let state = &self.states[id];
+        if state.contacts.len() > 1 && !self.units.iter().any(|(u, _)| *u == state.contacts) {
+            self.units
+                .push((state.contacts.clone(), state.witness.unwrap_or(witness)));
+        }
+        new
     }
 
     /// Whether a candidate was decided already or is a known state.
@@ -187,8 +205,8 @@ impl<'a> Store<'a> {
         let dof = state_dof(self.fixed, self.moving, &contacts, &placement, problem.scene().scale());
         self.seen.insert(contacts.clone());
         self.index.insert(contacts.clone(), id);
-        if let [single] = contacts[..] {
-            self.singles.push((single, witness));
+        if contacts.len() == 1 {
+            self.units.push((contacts.clone(), witness));
         }
         self.states.push(State {
             id,

@@ -292,3 +292,50 @@ fn the_same_parts_give_the_same_states_whatever_the_file() {
         }
     }
 }
+
+/// The plus-shaped peg in its plus-shaped hole, 1 mm clearance on every side, rotation
+/// pinned, x and y within ±1 mm: a wall touches only where x or y is at ±1, and there
+/// three parallel walls touch at once (an arm's end and the two shoulders beside it),
+/// so no single contact holds alone. By hand: free space, 4 sides of three f-f each, 4
+/// corners of six (the two sides' contacts), 9 states; the sides' regions (segments of
+/// the square's sides, times z) meet free space and the corners next to them, and the
+/// corners' regions (points, times z) lie in free space's closure: 4 × 3 + 4 = 16 edges.
+#[test]
+fn a_plus_peg_pinned_in_its_plus_hole_touches_three_walls_at_once() {
+    let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+    let block = Part::from_path(&fixtures.join("block_with_plus_hole.off")).unwrap();
+    let peg = Part::from_path(&fixtures.join("plus_peg.off")).unwrap();
+    let bounds = Bounds::try_new([-1.0, -1.0, 0.0, 0.0, 0.0, 0.0], [1.0, 1.0, 45.0, 0.0, 0.0, 0.0]).unwrap();
+    let graph = generate(&block, &peg, &bounds, &Options::default());
+    verify_witnesses(&block, &peg, &bounds, &graph);
+    // The walls each contact of a side holds, as the outward normal of the peg's face.
+    let side = |contacts: &[acsg::contact::PrincipalContact]| -> Vec<[i64; 3]> {
+        let mut normals: Vec<[i64; 3]> = contacts
+            .iter()
+            .map(|pc| {
+                assert_eq!(pc.kind, ContactKind::FaceFace, "{pc:?} is not a face on a face");
+                let ElementId::Face(f) = pc.moving else { unreachable!() };
+                peg.face(f).normal.to_array().map(|c| c.round() as i64)
+            })
+            .collect();
+        normals.sort_unstable();
+        normals.dedup();
+        normals
+    };
+    let mut by_size = std::collections::BTreeMap::new();
+    for state in &graph.states[1..] {
+        let walls = side(&state.contacts);
+        assert_eq!(
+            state.contacts.len(),
+            3 * walls.len(),
+            "state {} holds {} contacts on {} sides",
+            state.id,
+            state.contacts.len(),
+            walls.len()
+        );
+        *by_size.entry(state.contacts.len()).or_insert(0) += 1;
+    }
+    assert_eq!(by_size, std::collections::BTreeMap::from([(3, 4), (6, 4)]));
+    assert_eq!(graph.states.len(), 9);
+    assert_eq!(graph.edges.len(), 16);
+}

@@ -2,11 +2,16 @@
 //! that every candidate is decided ([`Problem::decide`]): witnessed, proved infeasible,
 //! or recorded as undecided:
 //! 1. every single contact (each primitive principal contact, faces on faces, edges in
-//!    faces, contacts in concave edges and corners) is decided on its own;
+//!    faces, contacts in concave edges and corners) is decided on its own; one that
+//!    does not hold alone may still hold with others touching too (three parallel
+//!    walls at the same clearance), so unless the cheap proofs show that it never
+//!    holds at all, the states holding it are searched for;
 //! 2. breadth first, each state is grown by every single-contact state it does not
-//!    imply; the combination is mapped by the derived rules under every outcome
-//!    ([`rules::grow_every`]), pruned when it cannot exist or is already known, and
-//!    otherwise decided with warm starts from the parent's and the addition's witnesses.
+//!    imply, and by every state holding a contact that does not hold alone (its
+//!    contacts one after the other); the combination is mapped by the derived rules
+//!    under every outcome ([`rules::grow_every`]), pruned when it cannot exist or is
+//!    already known, and otherwise decided with warm starts from the parent's and the
+//!    addition's witnesses.
 //!
 //! When the growth settles, every state is also searched one contact below, from its
 //! witness (descents); what they find grows again. A search that lands on a pose
@@ -26,11 +31,15 @@ use crate::feasibility::{
 use crate::graph::Progress;
 use crate::graph::rules;
 use crate::graph::store::Store;
+use crate::model::Part;
 use crate::pose::Pose;
 
 /// How many times the effort stage 1 spends on each single contact: they are few, and
 /// every state grows from them.
 const SINGLE_BOOST: u32 = 4;
+
+/// Searches for the states holding a single contact that does not hold alone.
+const COUPLED_STARTS: usize = 4;
 
 /// Constructive starts of a stage-2 search (after the warm starts).
 const GROWTH_STARTS: usize = 4;
@@ -83,6 +92,9 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
             states: store.states().len(),
         });
     }
+    let (units, stats) = coupled_units(problem, &singles, &results);
+    store.stats.stage1_optimisations += stats.optimisations;
+    store.stats.boxes += stats.boxes;
     for (pc, (decided, stats)) in singles.iter().zip(results) {
         let counts = &mut store.stats;
         counts.stage1_optimisations += stats.optimisations;
@@ -96,6 +108,70 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
             counts.feasible_ppc += 1;
         }
         store.record(vec![*pc], decided, problem);
+    }
+    for (state, pose) in units {
+        if store.add_unit(state, pose, problem) {
+            store.stats.found_on_the_way += 1;
+        }
+    }
+}
+
+/// A state met or searched for.
+type Met = (Vec<PrincipalContact>, Pose);
+
+/// The states holding a single contact that was proved not to hold alone by a proof
+/// leaning on other pairs keeping apart (or left undecided): a contact may hold only
+/// with others touching too, and such states then grow the others as single
+/// contacts do. The states met by the decisions and by a search for each
+/// ([`Problem::states_containing`], unless its cheap proofs show that it never
+/// holds), in the order of the singles, with the work done.
+fn coupled_units(
+    problem: &Problem<'_>,
+    singles: &[PrincipalContact],
+    results: &[(Decided, SearchStats)],
+) -> (Vec<Met>, SearchStats) {
+    let coupled: Vec<(usize, Vec<Met>, SearchStats)> = singles
+        .par_iter()
+        .zip(results)
+        .enumerate()
+        .filter(|(_, (_, (decided, _)))| may_hold_with_others(decided))
+        .map(|(i, (pc, _))| {
+            let mut stats = SearchStats::default();
+            let found = if problem.never_holds(&[*pc], &mut stats) {
+                Vec::new()
+            } else {
+                problem.states_containing(&[*pc], COUPLED_STARTS, &mut stats)
+            };
+            (i, found, stats)
+        })
+        .collect();
+    let mut units: Vec<Met> = Vec::new();
+    let mut work = SearchStats::default();
+    for (i, found, stats) in coupled {
+        work.optimisations += stats.optimisations;
+        work.boxes += stats.boxes;
+        let held = results[i]
+            .0
+            .others
+            .iter()
+            .filter(|(state, _)| state.contains(&singles[i]));
+        for (state, pose) in found.iter().chain(held) {
+            if !units.iter().any(|(u, _)| u == state) {
+                units.push((state.clone(), *pose));
+            }
+        }
+    }
+    (units, work)
+}
+
+/// Whether a single contact's decision leaves open that it holds with other contacts
+/// (see [`Problem::states_containing`]): it was not witnessed, and either nothing
+/// proved it infeasible or the proof leans on other pairs keeping apart.
+fn may_hold_with_others(decided: &Decided) -> bool {
+    match &decided.decision {
+        Decision::Witnessed(_) => false,
+        Decision::Infeasible(proof) => proof.leans_on_others_apart(),
+        Decision::Undecided(_) => true,
     }
 }
 
@@ -175,15 +251,15 @@ fn grow(store: &mut Store<'_>, problem: &Problem<'_>, grown: &mut Vec<usize>, pr
         }
         let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
         for chunk in candidates.chunks(BATCH) {
-            let (states, singles) = (store.states(), store.singles());
+            let (states, units) = (store.states(), store.units());
             results.par_extend(chunk.par_iter().map(|c| {
                 let mut stats = SearchStats::default();
                 let parent = states[c.parent].witness;
-                let (added, added_witness) = &singles[c.added];
+                let (added, added_witness) = &units[c.added];
                 let warm: Vec<Pose> = parent.into_iter().chain([*added_witness]).collect();
                 let starts = Starts {
                     warm: &warm,
-                    anchor: added,
+                    anchor: &added[0],
                     constructive: GROWTH_STARTS,
                     boost: 1,
                 };
@@ -217,21 +293,21 @@ fn candidates(store: &mut Store<'_>, grown: &mut Vec<usize>) -> Vec<Candidate> {
     let mut proposed = BTreeSet::new();
     for parent in 1..store.states().len() {
         let from = grown.get(parent).copied().unwrap_or(0);
-        let singles = store.singles().len();
-        if from == singles {
+        let units = store.units().len();
+        if from == units {
             continue;
         }
         let state = store.states()[parent].contacts.clone();
         let implied = rules::state_primitives(fixed, moving, &state);
-        for added in from..singles {
-            let pc = store.singles()[added].0;
+        for added in from..units {
+            let unit = store.units()[added].0.clone();
             store.stats.stage2_pairs += 1;
-            let own = rules::state_primitives(fixed, moving, &[pc]);
-            if state.contains(&pc) || (!own.is_empty() && own.is_subset(&implied)) {
+            let own = rules::state_primitives(fixed, moving, &unit);
+            if unit.iter().all(|pc| state.contains(pc)) || (!own.is_empty() && own.is_subset(&implied)) {
                 store.stats.pruned_implied += 1;
                 continue;
             }
-            let targets = rules::grow_every(fixed, moving, &state, pc);
+            let targets = grow_by(fixed, moving, &state, &unit);
             if targets.is_empty() {
                 store.stats.pruned_topology += 1;
             }
@@ -244,7 +320,34 @@ fn candidates(store: &mut Store<'_>, grown: &mut Vec<usize>) -> Vec<Candidate> {
         if grown.len() <= parent {
             grown.resize(parent + 1, 0);
         }
-        grown[parent] = singles;
+        grown[parent] = units;
     }
     out
+}
+
+/// Every state a state grown by a unit (its contacts one after the other) can map to.
+fn grow_by(
+    fixed: &Part,
+    moving: &Part,
+    state: &[PrincipalContact],
+    unit: &[PrincipalContact],
+) -> Vec<Vec<PrincipalContact>> {
+    let mut targets = vec![state.to_vec()];
+    for &pc in unit {
+        let mut next: Vec<Vec<PrincipalContact>> = Vec::new();
+        for t in targets {
+            let grown = if t.contains(&pc) {
+                vec![t]
+            } else {
+                rules::grow_every(fixed, moving, &t, pc)
+            };
+            for g in grown {
+                if !next.contains(&g) {
+                    next.push(g);
+                }
+            }
+        }
+        targets = next;
+    }
+    targets
 }
