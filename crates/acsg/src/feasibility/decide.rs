@@ -17,6 +17,11 @@
 //!   the box: every pose there either shows more than the target or is too close to
 //!   read the same with every tolerance, so none is a (robust) witness. The limits of
 //!   larger states (a corner balanced on a corner, with edges along the rim) end here.
+//!   A box small in rotation only (a face sliding along a face) gets the same rule
+//!   with the pair's distance taken at the corners of its translations (the distance
+//!   between convex elements is convex in the translation), and with a face lying
+//!   within the loosest tolerance of another's plane over an overlap of their
+//!   interiors (a looser checker reads them on each other).
 //!
 //! A box that survives is searched by a local optimisation from its centre, within the
 //! box, at every few levels of depth, and split in two. The search ends with a witness,
@@ -652,7 +657,126 @@ impl Problem<'_> {
         if within > 0.0 && self.holds_other_pair(target, &placement, within) {
             return Err(Rule::Robustness);
         }
+        if self.keeps_other_pair_close(target, &narrowed) {
+            return Err(Rule::Robustness);
+        }
         Ok(narrowed)
+    }
+
+    /// The robustness rule for a box that is small in rotation but not in translation
+    /// (a face sliding along a face): a pair of convex elements held by no contact of
+    /// the target that stays closer than the separation tolerance over the whole box.
+    /// At a fixed rotation the distance between two convex sets is a convex function of
+    /// the translation, so its largest value over the box's translations is at one of
+    /// their eight corners; turning within the box moves no point of the moving part
+    /// by more than `ρ Σ|Δθ|`.
+    fn keeps_other_pair_close(&self, target: &[PrincipalContact], b: &Bounds) -> bool {
+        let w = b.width();
+        let turn = self.moving_radius * (3..6).map(|k| 0.5 * w[k]).sum::<f64>();
+        let within = self.separation() - turn - scaled(10.0 * CONTACT_REL, self.scale);
+        if within <= 0.0 {
+            return false;
+        }
+        let centre = b.center();
+        let (lo, hi) = (b.min.to_array(), b.max.to_array());
+        let corners: Vec<glam::DAffine3> = (0..8u32)
+            .map(|c| {
+                let pick = |k: usize| if (c >> k) & 1 == 0 { lo[k] } else { hi[k] };
+                self.placement(&Pose {
+                    x: pick(0),
+                    y: pick(1),
+                    z: pick(2),
+                    ..centre
+                })
+            })
+            .collect();
+        let convex = |part: &Part, e: ElementId| match e {
+            ElementId::Face(f) => part.face(f).loops.len() == 1 && !part.face_outline_is_nonconvex(f),
+            _ => true,
+        };
+        let motion = self.reach_within(b);
+        self.scene
+            .pairs_within(&self.placement(&centre), within)
+            .into_iter()
+            .any(|(x, y)| match (x, y) {
+                (ElementId::Face(f), ElementId::Face(g)) if self.held(target, x, y) => {
+                    // Touching elsewhere through a contact of the target is allowed; the
+                    // whole face lying within the loosest tolerance of the other's plane,
+                    // over it, is not: a looser checker reads the faces on each other.
+                    let target_pair = target.iter().any(|pc| pc.fixed == x && pc.moving == y);
+                    let loose = scaled(super::LOOSE_CONTACT_REL - 10.0 * CONTACT_REL, self.scale) - turn;
+                    !target_pair && loose > 0.0 && self.faces_stay_close(f, g, &corners, loose, motion, true)
+                }
+                _ if self.held(target, x, y) => false,
+                _ if convex(self.fixed, x) && convex(self.moving, y) => corners
+                    .iter()
+                    .all(|placement| self.scene.element_distance(placement, x, y) < within),
+                (ElementId::Face(f), ElementId::Face(g)) => {
+                    self.faces_stay_close(f, g, &corners, within, motion, false)
+                }
+                _ => false,
+            })
+    }
+
+    /// Whether a point well inside the moving face `g` stays within `within` of the
+    /// fixed face `f`'s plane at every corner placement (the distance to a plane is
+    /// affine in the translation, so at every translation between them) and projects
+    /// more than `motion` (how far any point moves within the box) inside `f`: then at
+    /// every pose of the box the two faces either touch in both their interiors (a
+    /// contact of that pair, whatever the target holds) or are too close for a
+    /// witness.
+    fn faces_stay_close(
+        &self,
+        f: crate::model::FaceId,
+        g: crate::model::FaceId,
+        corners: &[glam::DAffine3],
+        within: f64,
+        motion: f64,
+        whole: bool,
+    ) -> bool {
+        let (fixed, moving) = (&self.fixed_faces[f.index()], &self.moving_faces[g.index()]);
+        let near_plane = |s: glam::DVec3| {
+            corners.iter().all(|placement| {
+                let p = placement.transform_point3(s);
+                (fixed.normal.dot(p) - fixed.offset).abs() < within
+            })
+        };
+        if whole && !moving.loops.iter().flatten().all(|&v| near_plane(v)) {
+            return false;
+        }
+        // Inside both faces by more than the contact tolerance: a touch there is read
+        // as a contact of these two faces.
+        let keep = scaled(10.0 * CONTACT_REL, self.scale);
+        // Points of `g` (in its part's frame): its samples, and the centres of the
+        // overlaps of the two faces' triangles at the first corner (a thin overlap
+        // holds no sample).
+        let to_moving = corners[0].inverse();
+        let mut points = moving.samples.clone();
+        for t in &fixed.triangles {
+            for u in &moving.triangles {
+                let [a, b, c] = u.map(|p| {
+                    let q = corners[0].transform_point3(p);
+                    q - fixed.normal * (fixed.normal.dot(q) - fixed.offset)
+                });
+                let mut poly = t.to_vec();
+                for (x, y) in [(a, c), (c, b), (b, a)] {
+                    let outward = (y - x).cross(fixed.normal).normalize_or_zero();
+                    poly = crate::geometry::clip_convex(&poly, outward, outward.dot(x));
+                    if poly.len() < 3 {
+                        break;
+                    }
+                }
+                if poly.len() >= 3 {
+                    let centre = poly.iter().copied().sum::<glam::DVec3>() / poly.len() as f64;
+                    points.push(to_moving.transform_point3(centre));
+                }
+            }
+        }
+        points.iter().any(|&s| {
+            moving.inside_depth(s) > keep
+                && near_plane(s)
+                && fixed.inside_depth(corners[0].transform_point3(s)) > 2.0 * motion + keep
+        })
     }
 
     /// Whether two elements `within` of each other at `placement` are held by none of
@@ -660,15 +784,22 @@ impl Problem<'_> {
     /// the state, in the closures of both the pair's and the contact's elements, so a
     /// held pair shares a vertex with the contact's element on each part.
     fn holds_other_pair(&self, target: &[PrincipalContact], placement: &glam::DAffine3, within: f64) -> bool {
+        self.scene
+            .pairs_within(placement, within)
+            .into_iter()
+            .any(|(x, y)| !self.held(target, x, y))
+    }
+
+    /// Whether a contact of the target holds the pair of a fixed element `x` and a
+    /// moving element `y` (see [`Problem::holds_other_pair`]).
+    fn held(&self, target: &[PrincipalContact], x: ElementId, y: ElementId) -> bool {
         let shares = |part: &Part, x: ElementId, a: ElementId| {
             let around = part.closure_vertices(a);
             part.closure_vertices(x).iter().any(|v| around.contains(v))
         };
-        self.scene.pairs_within(placement, within).into_iter().any(|(x, y)| {
-            !target
-                .iter()
-                .any(|pc| shares(self.fixed, x, pc.fixed) && shares(self.moving, y, pc.moving))
-        })
+        target
+            .iter()
+            .any(|pc| shares(self.fixed, x, pc.fixed) && shares(self.moving, y, pc.moving))
     }
 
     /// A witness found by sliding ([`Problem::slide`]) at the centres of a box's eight

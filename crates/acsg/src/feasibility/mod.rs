@@ -809,7 +809,7 @@ impl<'a> Problem<'a> {
 
 /// The loosest touching tolerance a checker may use, relative to L: just under the
 /// separation. A witness reads the same state with it as with [`CONTACT_REL`].
-const LOOSE_CONTACT_REL: f64 = 0.99 * SEPARATION_REL;
+pub(crate) const LOOSE_CONTACT_REL: f64 = 0.99 * SEPARATION_REL;
 
 /// Points per side of the grid of translations [`Problem::probed`] tries.
 const PROBE_GRID: usize = 7;
