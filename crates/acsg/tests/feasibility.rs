@@ -303,3 +303,52 @@ fn a_tilted_pegs_corner_on_a_side_wall_of_the_chamfered_hole_is_found() {
         }
     }
 }
+
+/// The plus peg in its plus hole, tilted about x within ±1°: the three faces of the peg
+/// that look towards −x stay parallel to their walls and at the same clearance, so
+/// pushed to x = −1 all three lie flat at once. Tilted by 1° and lifted until the
+/// bottom of one shoulder alone dips below the block's top (a window 15 × sin 1° ≈
+/// 0.26 mm high), that shoulder is the only contact. Found from the pose with all three
+/// flat by pushing the other two apart: only sliding parts them (the kept contact holds
+/// the planes together), and the overlap is thinner than the search's usual margin.
+/// Before, the push lifted the whole peg off the walls as a compromise and found nothing.
+#[test]
+fn a_shoulder_of_the_tilted_plus_peg_alone_on_its_wall_is_found_from_all_three_flat() {
+    let (block, peg) = (load("block_with_plus_hole.off"), load("plus_peg.off"));
+    // The face of `part` with this normal and offset whose middle has y in `ys`.
+    let face = |part: &Part, normal: DVec3, offset: f64, ys: std::ops::Range<f64>| {
+        let i = part
+            .faces()
+            .iter()
+            .position(|f| {
+                let corners = &f.outer().vertices;
+                let y = corners.iter().map(|&v| part.vertex(v).position.y).sum::<f64>() / corners.len() as f64;
+                f.normal.distance(normal) < 1e-12 && (f.offset - offset).abs() < 1e-9 && ys.contains(&y)
+            })
+            .expect("the face");
+        ElementId::Face(FaceId(i as u32))
+    };
+    let flat = |wall: (f64, std::ops::Range<f64>), side: (f64, std::ops::Range<f64>)| PrincipalContact {
+        fixed: face(&block, DVec3::X, wall.0, wall.1),
+        moving: face(&peg, -DVec3::X, -side.0, side.1),
+        kind: ContactKind::FaceFace,
+    };
+    let shoulder = flat((39.0, 24.0..39.0), (40.0, 25.0..40.0));
+    let mut all_three = vec![
+        shoulder,
+        flat((24.0, 39.0..61.0), (25.0, 40.0..60.0)),
+        flat((39.0, 61.0..76.0), (40.0, 60.0..75.0)),
+    ];
+    all_three.sort();
+    let bounds = acsg::task::bounds_from_spec("x=-1:1,y=-1:1,z=0:45,rx=-1:1").unwrap();
+    let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+    let flat_pose = Pose::from_array([-1.0, 0.5, 19.56, 1f64.to_radians(), 0.0, 0.0]);
+    let scene = ContactScene::new(&block, &peg);
+    let report = scene.evaluate(&flat_pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.contacts, all_three, "all three flat at {flat_pose:?}");
+    let mut stats = SearchStats::default();
+    match problem.find_below(&[shoulder], &all_three, flat_pose, &mut stats) {
+        acsg::feasibility::Search::Found(pose) => verify(&block, &peg, &bounds, &shoulder, &pose),
+        _ => panic!("no witness of {shoulder:?} ({stats:?})"),
+    }
+}

@@ -665,19 +665,42 @@ impl<'a> Problem<'a> {
         bounds: &Bounds,
     ) -> Pose {
         let clearance = 1e-4 * self.scale;
-        solver::minimise(
-            |x, out| {
-                self.residuals(target, x, SEARCH_MARGIN_REL * self.scale, true, out);
-                let t = self.placement(x);
-                for &(a, b) in extra {
-                    let gap = self.scene.element_distance(&t, a, b);
-                    out.push((clearance - gap).max(0.0));
+        let residuals = |margin: f64, x: &Pose, out: &mut Vec<f64>| {
+            self.residuals(target, x, margin * self.scale, true, out);
+            let t = self.placement(x);
+            for &(a, b) in extra {
+                let mut gap = self.scene.element_distance(&t, a, b);
+                if let (ElementId::Face(f), ElementId::Face(g)) = (a, b)
+                    && gap < clearance
+                {
+                    // Faces on each other part by sliding off as well as by lifting,
+                    // and when the contacts kept hold their planes together, only by
+                    // sliding: the overlap's area, which every sliding motion apart
+                    // shrinks, counts against the gap (the distance alone shows the
+                    // optimiser lifting as the only way out).
+                    let (face, other) = (&self.fixed_faces[f.index()], &self.moving_faces[g.index()]);
+                    let area = residual::overlap_area(face, other, &t);
+                    if area > 0.0 {
+                        gap = -area.sqrt();
+                    }
                 }
-            },
-            start,
-            bounds,
-            self.scale,
-        )
+                out.push((clearance - gap).max(0.0));
+            }
+        };
+        let mut pose = solver::minimise(|x, out| residuals(SEARCH_MARGIN_REL, x, out), start, bounds, self.scale);
+        // As in `solve`: a state that holds only on a sliver cannot keep the wide
+        // margin, so smaller ones settle it.
+        let mut margin = SEARCH_MARGIN_REL;
+        let mut left = Vec::new();
+        loop {
+            residuals(margin, &pose, &mut left);
+            if left.iter().map(|r| r * r).sum::<f64>().sqrt() <= CONTACT_REL * self.scale || margin <= TIGHT_MARGIN_REL
+            {
+                return pose;
+            }
+            margin = (margin * 0.1).max(TIGHT_MARGIN_REL);
+            pose = solver::minimise(|x, out| residuals(margin, x, out), pose, bounds, self.scale);
+        }
     }
 
     /// Searches for a witness of a contact state (its contacts sorted): the decision of

@@ -212,18 +212,58 @@ pub(crate) fn face_face(
     for p in other.loops.iter().flatten() {
         out.push(face.plane_distance(map.transform_point3(*p)));
     }
-    let depth_in_both = |p_a: DVec3, p_b: DVec3| face.inside_depth(p_a).min(other.inside_depth(p_b));
     let margin = face.margin(m).min(other.margin(m));
+    out.push(hinge(overlap_depth(face, other, map, back, margin), margin));
+}
+
+/// The area over which two faces overlap, seen along the first's normal (the second
+/// projected onto the first's plane): the sum over pairs of their triangles of the
+/// areas the two have in common. `map` takes the second face's part to the first's.
+pub(crate) fn overlap_area(face: &FaceShape, other: &FaceShape, map: &DAffine3) -> f64 {
+    let mut area = 0.0;
+    for t in &face.triangles {
+        for u in &other.triangles {
+            let [a, b, c] = u.map(|p| {
+                let q = map.transform_point3(p);
+                q - face.normal * face.plane_distance(q)
+            });
+            // The other triangle's sides, each with the direction its outside lies in.
+            let turn = (b - a).cross(c - a).dot(face.normal).signum();
+            let mut poly = t.to_vec();
+            for (x, y) in [(a, b), (b, c), (c, a)] {
+                let outward = (y - x).cross(face.normal).normalize_or_zero() * turn;
+                poly = clip_convex(&poly, outward, outward.dot(x));
+                if poly.len() < 3 {
+                    break;
+                }
+            }
+            if poly.len() >= 3 {
+                let twice: DVec3 = (1..poly.len() - 1)
+                    .map(|i| (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]))
+                    .sum();
+                area += 0.5 * twice.dot(face.normal).abs();
+            }
+        }
+    }
+    area
+}
+
+/// How deep two faces overlap, seen along the first's normal: the largest, over points
+/// of either, of how far inside both outlines a point lies (negative when they do not
+/// overlap). The samples first; when they give less than `enough`, the centres of the
+/// overlaps of the faces' triangles too (a small overlap may hold no sample). `map`
+/// takes the second face's part to the first's, `back` the other way.
+pub(crate) fn overlap_depth(face: &FaceShape, other: &FaceShape, map: &DAffine3, back: &DAffine3, enough: f64) -> f64 {
+    let depth_in_both = |p_a: DVec3, p_b: DVec3| face.inside_depth(p_a).min(other.inside_depth(p_b));
     let mut deepest = other
         .samples
         .iter()
         .map(|&p| depth_in_both(map.transform_point3(p), p))
         .chain(face.samples.iter().map(|&p| depth_in_both(p, back.transform_point3(p))))
         .fold(f64::NEG_INFINITY, f64::max);
-    if deepest < margin {
-        // A small overlap may hold no sample: the centres of the overlaps of the two
-        // faces' triangles (the other face's projected onto this plane, turned to run
-        // the same way round).
+    if deepest < enough {
+        // The centres of the overlaps of the two faces' triangles (the other face's
+        // projected onto this plane, turned to run the same way round).
         for t in &face.triangles {
             for u in &other.triangles {
                 let [a, b, c] = u.map(|p| {
@@ -245,7 +285,7 @@ pub(crate) fn face_face(
             }
         }
     }
-    out.push(hinge(deepest, margin));
+    deepest
 }
 
 /// Two edges crossing at one point inside both, each edge's faces falling away from the
