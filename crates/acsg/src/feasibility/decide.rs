@@ -256,6 +256,31 @@ impl Problem<'_> {
         Decided { decision, others }
     }
 
+    /// [`Problem::find_below`] as a decision: the witness, or undecided (with the whole
+    /// bounds open) for a candidate met before.
+    pub(crate) fn release_below(
+        &self,
+        target: &[PrincipalContact],
+        state: &[PrincipalContact],
+        witness: Pose,
+        stats: &mut SearchStats,
+    ) -> Decided {
+        match self.find_below(target, state, witness, stats) {
+            super::Search::Found(pose) => Decided {
+                decision: Decision::Witnessed(pose),
+                others: Vec::new(),
+            },
+            super::Search::NotFound { others } => Decided {
+                decision: Decision::Undecided(self.bounds),
+                others,
+            },
+            super::Search::Unreachable => Decided {
+                decision: Decision::Undecided(self.bounds),
+                others: Vec::new(),
+            },
+        }
+    }
+
     /// A witness of `target`, one contact below a known `state` with witness
     /// `witness`, found next to that witness: by pushing the other contact apart, then
     /// within small boxes around it. What a candidate left undecided over the whole

@@ -119,6 +119,16 @@ impl<'a> Store<'a> {
         self.seen.insert(contacts.to_vec())
     }
 
+    /// The candidates left undecided so far whose states have not turned up since, in
+    /// the order they were met.
+    pub fn still_undecided(&self) -> Vec<Vec<PrincipalContact>> {
+        self.undecided
+            .iter()
+            .filter(|u| !self.index.contains_key(&u.contacts))
+            .map(|u| u.contacts.clone())
+            .collect()
+    }
+
     /// Whether a candidate was left undecided (and no state of it has turned up since).
     pub fn is_undecided(&self, contacts: &[PrincipalContact]) -> bool {
         !self.index.contains_key(contacts) && self.undecided.iter().any(|u| u.contacts == contacts)

@@ -44,6 +44,19 @@ const COUPLED_STARTS: usize = 4;
 /// Constructive starts of a stage-2 search (after the warm starts).
 const GROWTH_STARTS: usize = 4;
 
+/// How a candidate below a state is searched.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Below {
+    /// Met for the first time, one contact below: decided next to the state's witness,
+    /// then over the whole bounds.
+    New,
+    /// Left undecided before, one contact below: searched next to the witness again.
+    Again,
+    /// Left undecided before, further below: the other contacts pushed apart from the
+    /// witness.
+    Released,
+}
+
 /// One stage-2 candidate to decide.
 struct Candidate {
     target: Vec<PrincipalContact>,
@@ -200,28 +213,45 @@ fn descend(
                 continue;
             }
             if store.take_up(&target) {
-                candidates.push((target, id, witness, false));
+                candidates.push((target, id, witness, Below::New));
             } else if store.is_undecided(&target) && retried.insert((target.clone(), id)) {
-                candidates.push((target, id, witness, true));
+                candidates.push((target, id, witness, Below::Again));
+            }
+        }
+    }
+    // Undecided candidates further below a state: pushed apart from its witness once.
+    // Where contacts come in groups (faces at one clearance), a candidate holds only
+    // beside the states that hold its group, not beside those one contact above.
+    let undecided = store.still_undecided();
+    for state in store.states() {
+        let Some(witness) = state.witness else { continue };
+        for target in &undecided {
+            let deeper = target.len() + 1 < state.contacts.len();
+            if deeper
+                && target.iter().all(|pc| state.contacts.binary_search(pc).is_ok())
+                && retried.insert((target.clone(), state.id))
+            {
+                candidates.push((target.clone(), state.id, witness, Below::Released));
             }
         }
     }
     let states = store.states();
     let results: Vec<(Decided, SearchStats)> = candidates
         .par_iter()
-        .map(|(target, from, witness, again)| {
+        .map(|(target, from, witness, below)| {
             let mut stats = SearchStats::default();
             let above = &states[*from].contacts;
-            let decided = if *again {
-                problem.retry_below(target, above, *witness, &mut stats)
-            } else {
-                problem.decide_below(target, above, *witness, &mut stats)
+            let decided = match below {
+                Below::New => problem.decide_below(target, above, *witness, &mut stats),
+                Below::Again => problem.retry_below(target, above, *witness, &mut stats),
+                Below::Released => problem.release_below(target, above, *witness, &mut stats),
             };
             (decided, stats)
         })
         .collect();
     let mut new = 0;
-    for ((target, _, _, again), (decided, stats)) in candidates.into_iter().zip(results) {
+    for ((target, _, _, below), (decided, stats)) in candidates.into_iter().zip(results) {
+        let again = below != Below::New;
         let counts = &mut store.stats;
         counts.descents += 1;
         // A retried candidate was counted as searched when it was first decided.
