@@ -219,6 +219,30 @@ fn descend(
             }
         }
     }
+    // A state less a whole group of contacts that hold only together (a unit of
+    // growth): where the group's members cannot part one at a time, the state's
+    // subsets one contact below do not hold, but the rest without the group may.
+    for s in 0..store.states().len() {
+        let state = &store.states()[s];
+        let Some(witness) = state.witness else { continue };
+        let (id, contacts) = (state.id, state.contacts.clone());
+        let groups: Vec<Vec<PrincipalContact>> = store
+            .units()
+            .iter()
+            .map(|(unit, _)| unit.clone())
+            .filter(|unit| {
+                unit.len() > 1
+                    && unit.len() < contacts.len()
+                    && unit.iter().all(|pc| contacts.binary_search(pc).is_ok())
+            })
+            .collect();
+        for group in groups {
+            let target: Vec<PrincipalContact> = contacts.iter().filter(|pc| !group.contains(pc)).copied().collect();
+            if !store.leaves_out(&target) && store.take_up(&target) {
+                candidates.push((target, id, witness, Below::New));
+            }
+        }
+    }
     // Undecided candidates further below a state: pushed apart from its witness once.
     // Where contacts come in groups (faces at one clearance), a candidate holds only
     // beside the states that hold its group, not beside those one contact above.
