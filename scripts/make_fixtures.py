@@ -337,17 +337,21 @@ def cross_ring(a, b, c, d):
     return [(a, c), (b, c), (b, a), (d, a), (d, b), (b, b), (b, d), (a, d), (a, b), (c, b), (c, a), (a, a)]
 
 
-def plus_peg_mesh():
-    # arms x or y in [40,60], reaching from 25 to 75; z[10,90]
-    ring = cross_ring(40, 60, 25, 75)
+def prism_mesh(name, ring, z0=10, z1=90):
+    """The prism over an outline (CCW seen from +z) from z0 to z1, as the pegs are."""
     n = len(ring)
-    verts = [(x, y, 10) for x, y in ring] + [(x, y, 90) for x, y in ring]
-    polys = [list(range(n - 1, -1, -1)),                 # bottom z=10, normal -z
-             list(range(n, 2 * n))]                      # top z=90, normal +z
+    verts = [(x, y, z0) for x, y in ring] + [(x, y, z1) for x, y in ring]
+    polys = [list(range(n - 1, -1, -1)),                 # bottom, normal -z
+             list(range(n, 2 * n))]                      # top, normal +z
     for k in range(n):
         j = (k + 1) % n
         polys.append([k, j, n + j, n + k])               # sides, outward
-    return Mesh("plus_peg", verts, polys)
+    return Mesh(name, verts, polys)
+
+
+def plus_peg_mesh():
+    # arms x or y in [40,60], reaching from 25 to 75; z[10,90]
+    return prism_mesh("plus_peg", cross_ring(40, 60, 25, 75))
 
 
 def block_with_plus_hole_mesh():
@@ -359,15 +363,7 @@ def block_with_plus_hole_mesh():
 
 
 def round_peg_mesh(n_sides=N_ROUND, name="round_peg"):
-    ring = ngon_xy(50, 50, Decimal(14), n_sides)
-    n = len(ring)
-    verts = [(x, y, 10) for x, y in ring] + [(x, y, 90) for x, y in ring]
-    polys = [list(range(n - 1, -1, -1)),                 # bottom z=10, normal -z
-             list(range(n, 2 * n))]                      # top z=90, normal +z
-    for k in range(n):
-        j = (k + 1) % n
-        polys.append([k, j, n + j, n + k])               # sides, outward
-    return Mesh(name, verts, polys)
+    return prism_mesh(name, ngon_xy(50, 50, Decimal(14), n_sides))
 
 
 def block_with_round_hole_mesh(n_sides=N_ROUND, name="block_with_round_hole"):
