@@ -204,6 +204,23 @@ impl PlacedFace {
         best
     }
 
+    /// Distance from `p` to the face's closed region.
+    fn distance(&self, p: DVec3) -> f64 {
+        let h = self.normal.dot(p) - self.offset;
+        if self.contains(p) {
+            h.abs()
+        } else {
+            h.hypot(self.boundary_distance(p))
+        }
+    }
+
+    /// Whether the segment (p, q) passes through the face's region, its ends more than
+    /// `tol` apart on either side of the plane.
+    fn crossed_by(&self, p: DVec3, q: DVec3, tol: f64) -> bool {
+        let (hp, hq) = (self.normal.dot(p) - self.offset, self.normal.dot(q) - self.offset);
+        ((hp > tol && hq < -tol) || (hp < -tol && hq > tol)) && self.contains(p.lerp(q, hp / (hp - hq)))
+    }
+
     /// Every boundary segment, in loop order (the face's interior on its left).
     fn segments(&self) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
         self.loops
@@ -475,7 +492,7 @@ impl<'a> Evaluator<'a> {
             }
             for (j, f) in moving.faces.iter().enumerate() {
                 if near(ebox(p0, p1), (f.lo, f.hi)) {
-                    self.edge_face(Side::FixedVertex, i, j, [p0, p1], f, scan);
+                    self.edge_face(Side::FixedVertex, i, j, [p0, p1], &moving.faces, scan);
                 }
             }
         }
@@ -488,7 +505,7 @@ impl<'a> Evaluator<'a> {
             for (j, g) in eb.iter().enumerate() {
                 let (q0, q1) = (pb[g[0]], pb[g[1]]);
                 if near((f.lo, f.hi), ebox(q0, q1)) {
-                    self.edge_face(Side::MovingVertex, j, i, [q0, q1], f, scan);
+                    self.edge_face(Side::MovingVertex, j, i, [q0, q1], &self.fixed.faces, scan);
                 }
             }
             for (j, g) in moving.faces.iter().enumerate() {
@@ -625,14 +642,42 @@ impl<'a> Evaluator<'a> {
     /// plane, that part lies in it (docs/concepts.md#tolerances: an edge with two points within
     /// 1e-9 L of a face's plane lies in it wherever it overlaps the face); a part that
     /// reaches the plane and gets more than τ behind it and inside the face's outline
-    /// dips into the other part.
-    fn edge_face(&self, side: Side, ei: usize, fi: usize, [p0, p1]: [DVec3; 2], f: &PlacedFace, scan: &mut Scan) {
+    /// dips into the other part, unless it leaves that part through another face first
+    /// (a thin wedge of it, behind the face's edge).
+    fn edge_face(
+        &self,
+        side: Side,
+        ei: usize,
+        fi: usize,
+        [p0, p1]: [DVec3; 2],
+        owner_faces: &[PlacedFace],
+        scan: &mut Scan,
+    ) {
+        let f = &owner_faces[fi];
         let tol = self.touch;
         let height = |p: DVec3| f.normal.dot(p) - f.offset;
         let (h0, h1) = (height(p0), height(p1));
         if (h0 > tol && h1 > tol) || (h0 < -tol && h1 < -tol) {
             return; // wholly in front of the plane, or wholly behind it
         }
+        // How deep a point behind the face lies in the face's part: nothing if the way
+        // back to the face passes through another of its faces, else the distance to
+        // the nearest other face.
+        let others = || {
+            owner_faces
+                .iter()
+                .enumerate()
+                .filter(|&(gi, _)| gi != fi)
+                .map(|(_, g)| g)
+        };
+        let inside_depth = |x: DVec3| {
+            let foot = x - f.normal * height(x);
+            if others().any(|g| g.crossed_by(x, foot, tol)) {
+                0.0
+            } else {
+                others().map(|g| g.distance(x)).fold(f64::INFINITY, f64::min)
+            }
+        };
         let mut lying: Vec<[DVec3; 2]> = Vec::new();
         for (s, e) in self.over_open_face(p0, p1, f) {
             let (a, b) = (p0.lerp(p1, s), p0.lerp(p1, e));
@@ -644,7 +689,7 @@ impl<'a> Evaluator<'a> {
                 // the face's boundary the neighbouring face takes over): sampled.
                 let depth = (0..=16)
                     .map(|k| a.lerp(b, f64::from(k) / 16.0))
-                    .map(|x| (-height(x)).min(f.boundary_distance(x)))
+                    .map(|x| (-height(x)).min(f.boundary_distance(x)).min(inside_depth(x)))
                     .fold(0.0, f64::max);
                 if depth <= tol {
                     continue;
