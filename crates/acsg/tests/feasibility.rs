@@ -352,3 +352,49 @@ fn a_shoulder_of_the_tilted_plus_peg_alone_on_its_wall_is_found_from_all_three_f
         _ => panic!("no witness of {shoulder:?} ({stats:?})"),
     }
 }
+
+/// The cube resting on one bottom edge on the slab, turned 10° about it: its vertex at
+/// the origin alone on the slab lies below that state (a part of the edge's contact),
+/// and is found from it by tilting the edge off the slab about that vertex. Before, the
+/// search from a state pushed apart only contacts it left out whole, and here that is
+/// the edge holding the vertex: nothing could be found.
+#[test]
+fn a_vertex_of_an_edge_on_the_slab_is_found_by_tilting_the_edge_off_about_it() {
+    let (slab, cube) = acsg::examples::cube_and_slab();
+    let top = slab_top(&slab);
+    let at = |p: DVec3| {
+        cube_vertices_where(&cube, |q| q.distance(p) < 1e-12)
+            .pop()
+            .expect("the vertex")
+    };
+    let (origin, along_x) = (at(DVec3::ZERO), at(DVec3::new(10.0, 0.0, 0.0)));
+    let edge = (0..cube.edges().len() as u32)
+        .map(acsg::model::EdgeId)
+        .find(|&e| {
+            let ends = cube.edge(e).vertices.map(ElementId::Vertex);
+            ends.contains(&origin) && ends.contains(&along_x)
+        })
+        .expect("the edge");
+    let on_edge = PrincipalContact {
+        fixed: top,
+        moving: ElementId::Edge(edge),
+        kind: ContactKind::FaceEdge,
+    };
+    let on_vertex = PrincipalContact {
+        fixed: top,
+        moving: origin,
+        kind: ContactKind::FaceVertex,
+    };
+    let bounds = acsg::task::bounds_from_spec("x=-5:5,y=-5:5,z=0:5,rx=-15:15,ry=-15:15,rz=-15:15").unwrap();
+    let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
+    // Turned about x: the edge along x stays on the slab, the rest lifts.
+    let resting = Pose::from_array([0.0, 0.0, 0.0, 10f64.to_radians(), 0.0, 0.0]);
+    let scene = ContactScene::new(&slab, &cube);
+    let report = scene.evaluate(&resting.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.contacts, vec![on_edge], "resting on the edge at {resting:?}");
+    let mut stats = SearchStats::default();
+    match problem.find_below(&[on_vertex], &[on_edge], resting, &mut stats) {
+        acsg::feasibility::Search::Found(pose) => verify(&slab, &cube, &bounds, &on_vertex, &pose),
+        other => panic!("no witness of {on_vertex:?}: {other:?}"),
+    }
+}

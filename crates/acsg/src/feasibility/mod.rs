@@ -23,6 +23,7 @@
 //! ([`Problem::settle`], [`Problem::verify`]), fixed starts spread over the bounds
 //! ([`Problem::spread_starts`]) and the sound exclusion tests ([`Problem::exclusion`]).
 
+mod below;
 mod decide;
 mod interval;
 mod lp;
@@ -40,6 +41,7 @@ use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
 use residual::{FaceShape, Margins, Side};
 
+pub(crate) use below::lies_strictly_below;
 pub(crate) use decide::Starts;
 pub use decide::{Decided, Decision, Proof, Rule};
 
@@ -634,7 +636,9 @@ impl<'a> Problem<'a> {
             return Some(pose);
         }
         if is_strict_superset(&state, target) {
-            // The target held, with more contacts: push those apart from here.
+            // The target held, with more contacts: push those apart from here. (Parts of
+            // contacts are left to the descents: tried after every search, they cost
+            // more than they found.)
             if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
                 return Some(released);
             }
@@ -781,10 +785,11 @@ impl<'a> Problem<'a> {
         (self.verify(&cleared).as_deref() == Some(target)).then_some(cleared)
     }
 
-    /// Searches for a witness of `target`, a proper subset of a known `state`, from that
-    /// state's witness by pushing the other contacts' elements apart (one
+    /// Searches for a witness of `target`, below a known `state` (a proper subset of
+    /// its contacts, or parts of them: a vertex of an edge that lies in a face), from
+    /// that state's witness by pushing the other contacts' elements apart (one
     /// optimisation). Poses that verify as other states are returned as with
-    /// [`Problem::find`].
+    /// [`Problem::find`]; a target not below the state is not searched.
     pub fn find_below(
         &self,
         target: &[PrincipalContact],
@@ -792,12 +797,10 @@ impl<'a> Problem<'a> {
         witness: Pose,
         stats: &mut SearchStats,
     ) -> Search {
+        let Some(extra) = below::parted_pairs(self.fixed, self.moving, target, state) else {
+            return Search::NotFound { others: Vec::new() };
+        };
         stats.optimisations += 1;
-        let extra: Vec<(ElementId, ElementId)> = state
-            .iter()
-            .filter(|pc| !target.contains(pc))
-            .map(|pc| (pc.fixed, pc.moving))
-            .collect();
         let pose = self.release(target, &extra, witness, &self.bounds);
         match self.verify(&pose) {
             Some(found) if found == target => Search::Found(pose),

@@ -26,7 +26,8 @@ use rayon::prelude::*;
 use super::BATCH;
 use crate::contact::PrincipalContact;
 use crate::feasibility::{
-    Decided, Decision, PRIMITIVE_STARTS, Problem, SearchStats, Starts, is_primitive, single_contacts,
+    Decided, Decision, PRIMITIVE_STARTS, Problem, SearchStats, Starts, is_primitive, lies_strictly_below,
+    single_contacts,
 };
 use crate::graph::Progress;
 use crate::graph::rules;
@@ -245,14 +246,17 @@ fn descend(
     }
     // Undecided candidates further below a state: pushed apart from its witness once.
     // Where contacts come in groups (faces at one clearance), a candidate holds only
-    // beside the states that hold its group, not beside those one contact above.
+    // beside the states that hold its group, not beside those one contact above. So
+    // too a candidate that holds a part of one of the state's contacts (a vertex of an
+    // edge lying in a face), whose region may be a sliver along the state's.
     let undecided = store.still_undecided();
+    let (fixed, moving) = (store.fixed(), store.moving());
     for state in store.states() {
         let Some(witness) = state.witness else { continue };
         for target in &undecided {
-            let deeper = target.len() + 1 < state.contacts.len();
-            if deeper
-                && target.iter().all(|pc| state.contacts.binary_search(pc).is_ok())
+            let deeper = target.len() + 1 < state.contacts.len()
+                && target.iter().all(|pc| state.contacts.binary_search(pc).is_ok());
+            if (deeper || lies_strictly_below(fixed, moving, target, &state.contacts))
                 && retried.insert((target.clone(), state.id))
             {
                 candidates.push((target.clone(), state.id, witness, Below::Released));
