@@ -316,6 +316,78 @@ fn the_evaluator_calls_nearly_parallel_edges_crossing_next_to_a_corner_not_robus
     }
 }
 
+/// A prism over `ring` (counter-clockwise seen from +z) from z0 to z1, as a part.
+fn prism(name: &str, ring: &[(f64, f64)], z0: f64, z1: f64) -> Part {
+    let n = ring.len();
+    let mut off = format!("OFF\n{} {} 0\n", 2 * n, n + 2);
+    for z in [z0, z1] {
+        for (x, y) in ring {
+            writeln!(off, "{x} {y} {z}").unwrap();
+        }
+    }
+    let bottom: Vec<String> = (0..n).rev().map(|k| k.to_string()).collect();
+    let top: Vec<String> = (n..2 * n).map(|k| k.to_string()).collect();
+    writeln!(off, "{n} {}", bottom.join(" ")).unwrap();
+    writeln!(off, "{n} {}", top.join(" ")).unwrap();
+    for k in 0..n {
+        let j = (k + 1) % n;
+        writeln!(off, "4 {k} {j} {} {}", n + j, n + k).unwrap();
+    }
+    let soup = acsg::io::off::read(off.as_bytes()).unwrap();
+    Part::try_new(&soup, name).unwrap()
+}
+
+/// A wedge (a prism over a triangle) in a V-groove, tilted 3° about x, its apex edge
+/// crossing the groove's end edge. The wedge's faces meet at 74° along the apex, so a
+/// point behind one face near the apex may already be in front of the other: the
+/// groove's edge passes behind the plane of the wedge's side over the side's outline,
+/// yet is outside the wedge all along (checked here point by point against the wedge's
+/// five planes). The evaluator read it as 2.15 mm of penetration, and the oracle's
+/// cross-check failed on this pair.
+#[test]
+fn the_evaluator_reads_an_edge_behind_a_thin_wedges_face_as_outside_it() {
+    let groove = prism(
+        "vblock",
+        &[
+            (0.0, 0.0),
+            (100.0, 0.0),
+            (100.0, 60.0),
+            (65.0, 60.0),
+            (50.0, 40.0),
+            (35.0, 60.0),
+            (0.0, 60.0),
+        ],
+        0.0,
+        50.0,
+    );
+    let wedge = prism("vwedge", &[(50.0, 42.0), (71.0, 70.0), (29.0, 70.0)], 5.0, 45.0);
+    let pose = Pose::from_array([
+        -0.005420457434628118,
+        -2.254671558037846,
+        -3.8975187557846143,
+        -3f64.to_radians(),
+        0.0,
+        0.0,
+    ]);
+    // The groove's end edge from (35, 60, 0) to (50, 40, 0), in the wedge's frame, is in
+    // front of one of the wedge's planes at every point.
+    let to_wedge = pose.to_affine(&DAffine3::IDENTITY).inverse();
+    for k in 0..=100 {
+        let p = to_wedge
+            .transform_point3(DVec3::new(35.0, 60.0, 0.0).lerp(DVec3::new(50.0, 40.0, 0.0), f64::from(k) / 100.0));
+        let outside = wedge
+            .faces()
+            .iter()
+            .map(|f| f.normal.dot(p) - f.offset)
+            .fold(f64::MIN, f64::max);
+        assert!(outside > 0.0, "point {k} of the edge is inside the wedge");
+    }
+    match Evaluator::new(&groove, &wedge).evaluate(&pose) {
+        Verdict::Penetrating(why) => panic!("read penetration: {why}"),
+        Verdict::State(_) | Verdict::NonRobust(_) => {}
+    }
+}
+
 #[test]
 fn the_evaluator_reads_a_vertex_on_the_slab_and_an_edge_crossing() {
     let (slab, cube) = acsg::examples::cube_and_slab();
