@@ -55,52 +55,72 @@ fn match_below(
     assign(0, &open, &options, &mut used, &mut matched).then(|| matched.into_iter().flatten().collect())
 }
 
+/// Every element of an element's closure: itself, its edges, its vertices.
+fn closure(part: &Part, e: ElementId) -> Vec<ElementId> {
+    let mut out = vec![e];
+    if let ElementId::Face(_) = e {
+        out.extend(part.closure_edges(e).into_iter().map(ElementId::Edge));
+    }
+    out.extend(
+        part.closure_vertices(e)
+            .into_iter()
+            .map(ElementId::Vertex)
+            .filter(|&v| v != e),
+    );
+    out
+}
+
+/// The elements of one side of a contact that touch the other side wherever the contact
+/// holds: a face lying on a face touches it with its whole closure, an edge lying in a
+/// face with its vertices too; a crossing or a point on a face, only at the element
+/// itself.
+fn touching(part: &Part, own: ElementId, other: ElementId) -> Vec<ElementId> {
+    match (own, other) {
+        (ElementId::Face(_) | ElementId::Edge(_), ElementId::Face(_)) => closure(part, own),
+        _ => vec![own],
+    }
+}
+
 /// The element pairs to push apart from a witness of `state` to reach `target`, when
 /// `target` lies below `state` (see the module docs) and differs from it: every other
 /// contact of the state whole, and for a contact of which the target keeps a part, the
-/// vertices of each element reduced to a part from the other element (unless another
-/// contact of the target holds them together).
-/// `None` when `target` does not lie below `state`.
+/// pairs of elements in the two closures that touch at the witness (`touches`) unless
+/// a contact of the target holds them together (an edge lying in a face tilts off it
+/// about its kept vertex; an edge lying across a face lifts off all of it but one of
+/// its sides). `None` when `target` does not lie below `state`.
 pub(crate) fn parted_pairs(
     fixed: &Part,
     moving: &Part,
     target: &[PrincipalContact],
     state: &[PrincipalContact],
+    touches: impl Fn(ElementId, ElementId) -> bool,
 ) -> Option<Vec<(ElementId, ElementId)>> {
     if target.len() > state.len() || target == state {
         return None;
     }
     let matched = match_below(fixed, moving, target, state)?;
+    // Whether a contact of the target makes x and y touch: an element touching on
+    // each side lies in their closures.
     let held = |x: ElementId, y: ElementId| {
-        target
-            .iter()
-            .any(|c| fixed.in_closure(x, c.fixed) && moving.in_closure(y, c.moving))
+        target.iter().any(|c| {
+            touching(fixed, c.fixed, c.moving)
+                .iter()
+                .any(|&t| fixed.in_closure(x, t))
+                && touching(moving, c.moving, c.fixed)
+                    .iter()
+                    .any(|&t| moving.in_closure(y, t))
+        })
     };
     let mut pairs = Vec::new();
     for (s, whole) in state.iter().enumerate() {
         match matched.iter().position(|&m| m == s) {
             None => pairs.push((whole.fixed, whole.moving)),
             Some(i) if target[i] == *whole => {}
-            Some(i) => {
-                // The vertices of an element the target keeps only a part of part from
-                // the other element: an edge tilts off a face about its kept vertex.
-                let kept = &target[i];
-                let mut part = |pair: (ElementId, ElementId)| {
-                    if !held(pair.0, pair.1) && !pairs.contains(&pair) {
-                        pairs.push(pair);
-                    }
-                };
-                if kept.moving != whole.moving {
-                    for y in moving.closure_vertices(whole.moving) {
-                        if !moving.in_closure(kept.moving, ElementId::Vertex(y)) {
-                            part((whole.fixed, ElementId::Vertex(y)));
-                        }
-                    }
-                }
-                if kept.fixed != whole.fixed {
-                    for x in fixed.closure_vertices(whole.fixed) {
-                        if !fixed.in_closure(kept.fixed, ElementId::Vertex(x)) {
-                            part((ElementId::Vertex(x), whole.moving));
+            Some(_) => {
+                for x in closure(fixed, whole.fixed) {
+                    for y in closure(moving, whole.moving) {
+                        if !held(x, y) && !pairs.contains(&(x, y)) && touches(x, y) {
+                            pairs.push((x, y));
                         }
                     }
                 }
@@ -118,7 +138,7 @@ pub(crate) fn lies_strictly_below(
     target: &[PrincipalContact],
     state: &[PrincipalContact],
 ) -> bool {
-    !target.iter().all(|c| state.contains(c)) && parted_pairs(fixed, moving, target, state).is_some()
+    !target.iter().all(|c| state.contains(c)) && match_below(fixed, moving, target, state).is_some()
 }
 
 #[cfg(test)]
@@ -132,28 +152,77 @@ mod tests {
         PrincipalContact { fixed, moving, kind }
     }
 
+    /// The pairs that touch at an imagined witness: `fixed` against each of `moving`.
+    fn touching_pairs(fixed: ElementId, moving: Vec<ElementId>) -> impl Fn(ElementId, ElementId) -> bool {
+        move |x, y| x == fixed && moving.contains(&y)
+    }
+
     #[test]
     fn a_vertex_of_an_edge_on_a_face_lies_below_the_edge_and_parts_the_other_vertex() {
         let (slab, cube) = cube_and_slab();
-        // An edge of the cube and one of its ends.
         let edge = EdgeId(0);
-        let [v0, v1] = cube.edge(edge).vertices;
-        let top = FaceId(0);
-        let on_edge = pc(ContactKind::FaceEdge, ElementId::Face(top), ElementId::Edge(edge));
-        let on_vertex = pc(ContactKind::FaceVertex, ElementId::Face(top), ElementId::Vertex(v0));
-        let pairs = parted_pairs(&slab, &cube, &[on_vertex], &[on_edge]).expect("below");
-        assert!(pairs.contains(&(ElementId::Face(top), ElementId::Vertex(v1))));
-        assert!(!pairs.contains(&(ElementId::Face(top), ElementId::Vertex(v0))));
-        assert_eq!(pairs.len(), 1);
+        let [v0, v1] = cube.edge(edge).vertices.map(ElementId::Vertex);
+        let top = ElementId::Face(FaceId(0));
+        let on_edge = pc(ContactKind::FaceEdge, top, ElementId::Edge(edge));
+        let on_vertex = pc(ContactKind::FaceVertex, top, v0);
+        // The edge lies inside the face: it and both its ends touch the face.
+        let touches = || touching_pairs(top, vec![ElementId::Edge(edge), v0, v1]);
+        let pairs = parted_pairs(&slab, &cube, &[on_vertex], &[on_edge], touches()).expect("below");
+        assert_eq!(pairs, vec![(top, v1)]);
         assert!(lies_strictly_below(&slab, &cube, &[on_vertex], &[on_edge]));
         // Not the other way up, and a vertex off the edge is not below it.
-        assert!(parted_pairs(&slab, &cube, &[on_edge], &[on_vertex]).is_none());
+        assert!(parted_pairs(&slab, &cube, &[on_edge], &[on_vertex], touches()).is_none());
         let off = (0..8)
-            .map(VertexId)
-            .find(|v| !cube.edge(edge).vertices.contains(v))
+            .map(|v| ElementId::Vertex(VertexId(v)))
+            .find(|v| ![v0, v1].contains(v))
             .unwrap();
-        let elsewhere = pc(ContactKind::FaceVertex, ElementId::Face(top), ElementId::Vertex(off));
-        assert!(parted_pairs(&slab, &cube, &[elsewhere], &[on_edge]).is_none());
+        let elsewhere = pc(ContactKind::FaceVertex, top, off);
+        assert!(parted_pairs(&slab, &cube, &[elsewhere], &[on_edge], touches()).is_none());
+        assert!(!lies_strictly_below(&slab, &cube, &[elsewhere], &[on_edge]));
+    }
+
+    #[test]
+    fn a_face_on_a_face_down_to_one_edge_lifts_the_rest_of_the_face_but_not_that_edges_neighbours() {
+        let (slab, cube) = cube_and_slab();
+        let top = ElementId::Face(FaceId(0));
+        let face = ElementId::Face(FaceId(0));
+        let edges = cube.closure_edges(face);
+        let kept = edges[0];
+        let kept_ends = cube.edge(kept).vertices;
+        let flat = pc(ContactKind::FaceFace, top, face);
+        let on_edge = pc(ContactKind::FaceEdge, top, ElementId::Edge(kept));
+        // The face lies inside the slab's top: its whole closure touches it.
+        let touches = touching_pairs(top, closure(&cube, face));
+        let pairs = parted_pairs(&slab, &cube, &[on_edge], &[flat], touches).expect("below");
+        for &e in &edges[1..] {
+            let neighbour = cube.edge(e).vertices.iter().any(|v| kept_ends.contains(v));
+            // An edge sharing an end with the kept edge touches the face there.
+            assert_eq!(pairs.contains(&(top, ElementId::Edge(e))), !neighbour, "edge {e:?}");
+        }
+        for v in cube.closure_vertices(face) {
+            assert_eq!(pairs.contains(&(top, ElementId::Vertex(v))), !kept_ends.contains(&v));
+        }
+        assert_eq!(pairs.len(), 3, "the opposite edge and the two far corners: {pairs:?}");
+    }
+
+    #[test]
+    fn an_edge_lying_across_a_face_down_to_crossing_one_of_its_edges_lifts_off_the_other_and_its_ends() {
+        let (slab, cube) = cube_and_slab();
+        let (edge, face) = (ElementId::Edge(EdgeId(0)), ElementId::Face(FaceId(0)));
+        let edges = cube.closure_edges(face);
+        let (crossed, also_crossed) = (ElementId::Edge(edges[0]), ElementId::Edge(edges[2]));
+        let [end0, end1] = slab.edge(EdgeId(0)).vertices.map(ElementId::Vertex);
+        let lying = pc(ContactKind::EdgeFace, edge, face);
+        let crossing = pc(ContactKind::EdgeEdge, edge, crossed);
+        // The edge lies across the face, crossing two of its edges, one end over it.
+        let touches = |x: ElementId, y: ElementId| {
+            (x == edge && [face, crossed, also_crossed].contains(&y)) || (x == end0 && y == face)
+        };
+        let pairs = parted_pairs(&slab, &cube, &[crossing], &[lying], touches).expect("below");
+        // A crossing touches only inside both edges: the other crossed edge and the end
+        // over the face part; the face itself (held at the crossing) does not.
+        assert_eq!(pairs, vec![(edge, also_crossed), (end0, face)]);
+        assert!(!pairs.iter().any(|&(x, _)| x == end1));
     }
 
     #[test]
@@ -171,11 +240,12 @@ mod tests {
         );
         let mut state = vec![a, b];
         state.sort();
+        let all = |_: ElementId, _: ElementId| true;
         assert_eq!(
-            parted_pairs(&slab, &cube, &[a], &state),
+            parted_pairs(&slab, &cube, &[a], &state, all),
             Some(vec![(b.fixed, b.moving)])
         );
         assert!(!lies_strictly_below(&slab, &cube, &[a], &state));
-        assert_eq!(parted_pairs(&slab, &cube, &state, &state), None);
+        assert_eq!(parted_pairs(&slab, &cube, &state, &state, all), None);
     }
 }

@@ -668,9 +668,11 @@ impl<'a> Problem<'a> {
         start: Pose,
         bounds: &Bounds,
     ) -> Pose {
-        let clearance = 1e-4 * self.scale;
         let residuals = |margin: f64, x: &Pose, out: &mut Vec<f64>| {
             self.residuals(target, x, margin * self.scale, true, out);
+            // The clearance shrinks with the margin (a tenth of it, down to twice the
+            // separation): a state that holds only on a sliver has no room for more.
+            let clearance = (0.1 * margin).max(2.0 * SEPARATION_REL) * self.scale;
             let t = self.placement(x);
             for &(a, b) in extra {
                 let mut gap = self.scene.element_distance(&t, a, b);
@@ -797,7 +799,10 @@ impl<'a> Problem<'a> {
         witness: Pose,
         stats: &mut SearchStats,
     ) -> Search {
-        let Some(extra) = below::parted_pairs(self.fixed, self.moving, target, state) else {
+        let placed = self.placement(&witness);
+        let touches =
+            |a: ElementId, b: ElementId| self.scene.element_distance(&placed, a, b) <= 2.0 * self.separation();
+        let Some(extra) = below::parted_pairs(self.fixed, self.moving, target, state, touches) else {
             return Search::NotFound { others: Vec::new() };
         };
         stats.optimisations += 1;
@@ -807,7 +812,15 @@ impl<'a> Problem<'a> {
             Some(found) => Search::NotFound {
                 others: vec![(found, pose)],
             },
-            None => Search::NotFound { others: Vec::new() },
+            // The target holds but not robustly (a sliver narrower than the clearance
+            // pushed for): the pairs still close are pushed apart from there.
+            None => match self
+                .inspect(&pose)
+                .and_then(|report| self.clear(target, pose, &report, &self.bounds, stats))
+            {
+                Some(cleared) => Search::Found(cleared),
+                None => Search::NotFound { others: Vec::new() },
+            },
         }
     }
 
