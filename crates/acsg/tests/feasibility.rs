@@ -398,3 +398,54 @@ fn a_vertex_of_an_edge_on_the_slab_is_found_by_tilting_the_edge_off_about_it() {
         other => panic!("no witness of {on_vertex:?}: {other:?}"),
     }
 }
+
+/// The cube leaning 20° over the slab's edge x = 100, z = 0, its bottom face lying on
+/// that edge (which crosses two of the face's edges, y = 0 and y = 10): the edge
+/// crossing only the face's edge y = 0 lies below that state, and is found from it by
+/// lifting the side y = 10 off the slab's edge (the slab's edge and the face's other
+/// crossed edge part; the edge and the face cannot, they touch at the crossing kept).
+#[test]
+fn an_edge_lying_across_a_face_is_lifted_to_cross_only_one_of_its_edges() {
+    let (slab, cube) = acsg::examples::cube_and_slab();
+    let edge_where = |part: &Part, a: DVec3, b: DVec3| {
+        (0..part.edges().len() as u32)
+            .map(acsg::model::EdgeId)
+            .find(|&e| {
+                let [p, q] = part.edge_points(e);
+                (p.distance(a) < 1e-9 && q.distance(b) < 1e-9) || (p.distance(b) < 1e-9 && q.distance(a) < 1e-9)
+            })
+            .map(ElementId::Edge)
+            .expect("the edge")
+    };
+    let rim = edge_where(&slab, DVec3::new(100.0, -100.0, 0.0), DVec3::new(100.0, 100.0, 0.0));
+    let front = edge_where(&cube, DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0));
+    let bottom = cube
+        .faces()
+        .iter()
+        .position(|f| f.normal.distance(-DVec3::Z) < 1e-12)
+        .map(|i| ElementId::Face(FaceId(i as u32)))
+        .unwrap();
+    let lying = PrincipalContact {
+        fixed: rim,
+        moving: bottom,
+        kind: ContactKind::EdgeFace,
+    };
+    let crossing = PrincipalContact {
+        fixed: rim,
+        moving: front,
+        kind: ContactKind::EdgeEdge,
+    };
+    let tilt = 20f64.to_radians();
+    // The bottom face's middle line x = 5 on the slab's edge, the cube hanging over it.
+    let leaning = Pose::from_array([100.0 - 5.0 * tilt.cos(), 0.0, 5.0 * tilt.sin(), 0.0, tilt, 0.0]);
+    let scene = ContactScene::new(&slab, &cube);
+    let report = scene.evaluate(&leaning.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.contacts, vec![lying], "leaning on the edge at {leaning:?}");
+    let bounds = acsg::task::bounds_from_spec("x=90:100,y=-5:5,z=0:5,rx=-30:30,ry=-30:30,rz=-30:30").unwrap();
+    let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
+    let mut stats = SearchStats::default();
+    match problem.find_below(&[crossing], &[lying], leaning, &mut stats) {
+        acsg::feasibility::Search::Found(pose) => verify(&slab, &cube, &bounds, &crossing, &pose),
+        other => panic!("no witness of {crossing:?}: {other:?}"),
+    }
+}
