@@ -69,6 +69,12 @@ fn write_stages(out: &mut String, s: &Stats) {
          {} feasible, {:.3} s",
         s.ppc, s.ppc_unreachable, s.stage1_searched, s.stage1_optimisations, s.feasible_ppc, s.stage1_seconds
     );
+    let _ = writeln!(
+        out,
+        "slices   {} rotations, {} translations read off the pieces' Minkowski differences: {} states no \
+         search had found yet",
+        s.slices, s.slice_samples, s.found_by_slices
+    );
     // A pair gives one outcome per case of the mapping rules, and each outcome is
     // counted once: the counts below add up to more than the pairs.
     let _ = writeln!(

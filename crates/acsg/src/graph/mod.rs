@@ -122,6 +122,13 @@ pub struct Stats {
     pub descents: usize,
     /// States found by those searches.
     pub found_by_descent: usize,
+    /// Rotations at which the states were read off the Minkowski differences of the
+    /// convex pieces (the slice sweep, after stage 1).
+    pub slices: usize,
+    /// Translations whose state the sweep read.
+    pub slice_samples: usize,
+    /// States the sweep found that no search had.
+    pub found_by_slices: usize,
     /// Candidates met in all (stage 1's PPCs, stage 2's combinations, descents): each
     /// ends witnessed, proved infeasible or undecided.
     pub candidates: usize,

@@ -108,6 +108,12 @@ impl<'a> Store<'a> {
         new
     }
 
+    /// Adds a verified state met outside the search for any candidate (by the slice
+    /// sweep); whether it was new.
+    pub fn add_met(&mut self, contacts: Vec<PrincipalContact>, witness: Pose, problem: &Problem<'_>) -> bool {
+        matches!(self.add_state(contacts, witness, problem), Some((_, true)))
+    }
+
     /// Whether a candidate was decided already or is a known state.
     pub fn is_seen(&self, contacts: &[PrincipalContact]) -> bool {
         self.seen.contains(contacts)

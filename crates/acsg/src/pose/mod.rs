@@ -441,7 +441,7 @@ fn at(r: &DMat3, row: usize, col: usize) -> f64 {
 /// `(-sin b, sin a cos b, cos a cos b)`, which gives `a` and `b`; `c` is then read from
 /// `r · Rx(a)ᵀ = Rz(c) · Ry(b)`, whose middle column is `(-sin c, cos c, 0)`. Computing
 /// `c` from the chosen `a` keeps the result consistent near gimbal lock.
-fn euler_zyx(r: &DMat3) -> (f64, f64, f64) {
+pub(crate) fn euler_zyx(r: &DMat3) -> (f64, f64, f64) {
     let (r21, r22) = (at(r, 2, 1), at(r, 2, 2));
     let cos_b = r21.hypot(r22);
     let rx = if cos_b <= GIMBAL_EPS { 0.0 } else { r21.atan2(r22) };

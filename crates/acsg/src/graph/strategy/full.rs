@@ -68,6 +68,7 @@ struct Candidate {
 /// Runs both stages, then descents, until nothing new appears.
 pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn Fn(Progress) + Sync)) {
     decide_singles(store, problem, progress);
+    sweep_slices(store, problem);
     store.end_stage1();
     // Stage 2: every state grown by every single contact found, until nothing new
     // appears; then every state searched one contact below, and grown again.
@@ -126,6 +127,20 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
     for (state, pose) in units {
         if store.add_unit(state, pose, problem) {
             store.stats.found_on_the_way += 1;
+        }
+    }
+}
+
+/// The states that show at the slice sweep's rotations ([`Problem::states_in_slices`]):
+/// those on slivers of the bounds that no local search reaches, found without
+/// optimising. They grow and descend as every other state does.
+fn sweep_slices(store: &mut Store<'_>, problem: &Problem<'_>) {
+    let finds = problem.states_in_slices(store.options().degenerate);
+    store.stats.slices = finds.slices;
+    store.stats.slice_samples = finds.samples;
+    for (state, pose) in finds.states {
+        if store.add_met(state, pose, problem) {
+            store.stats.found_by_slices += 1;
         }
     }
 }

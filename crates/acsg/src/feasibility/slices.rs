@@ -1,0 +1,789 @@
+//! Rotation slices: the states that show at a fixed rotation of the moving part, found
+//! without any optimisation.
+//!
+//! At a fixed rotation `R`, in the frame where a point of the moving part lies at
+//! `R p + t`, the moving part's convex piece `Q_j` touches the fixed part's piece `P_i`
+//! exactly when `t` lies on the boundary of their Minkowski difference
+//! `M_ij = P_i ⊕ (−R Q_j)`, and the parts touch without penetrating exactly when `t`
+//! lies on the boundary of the union of all the `M_ij`. A point in the relative
+//! interior of a facet of one `M_ij`, outside every other, shows one contact; a point
+//! on the segment where facets of two of them meet shows two; a point where a third
+//! one's facet crosses that segment, three. So every state that holds at `R` with
+//! point contacts between different pieces shows at such a point, and states with a
+//! face on a face or an edge in a face show at the rotations that align them, which
+//! the slices include.
+//!
+//! The sweep takes many rotations (the bounds' centre and corners, the centres of
+//! their faces and edges, pseudo-random ones, ones close to the centre, and ones that
+//! turn a face of one part flat to a face of the other or an edge parallel to a face),
+//! samples every such region once, and reads the state at each sample with the
+//! witness check ([`Problem::clean_state`]). The local searches miss states whose
+//! poses fill only a sliver of the bounds (a part jammed in a hole at the largest turn
+//! allowed); a slice through the sliver shows them at once.
+
+use glam::{DAffine3, DMat3, DVec3};
+use rayon::prelude::*;
+
+use super::Problem;
+use crate::contact::PrincipalContact;
+use crate::geometry::{ConvexPolytope, clip_convex, plane_basis};
+use crate::model::Part;
+use crate::pose::{Bounds, Pose, euler_zyx};
+
+/// Pseudo-random rotations anywhere in the bounds.
+const RANDOM: usize = 400;
+/// Pseudo-random rotations on each face of the box of rotation bounds (one angle at a
+/// bound) and on each of its edges (two): the largest turns allowed.
+const RANDOM_ON_FACES: usize = 20;
+const RANDOM_ON_EDGES: usize = 10;
+/// Pseudo-random rotations in the bounds shrunk about their centre by these factors:
+/// a part in a tight hole turns only a little before it jams.
+const SHRUNK: [f64; 3] = [0.1, 0.01, 0.001];
+const RANDOM_SHRUNK: usize = 40;
+/// Turns about an aligned face's normal tried per alignment.
+const TWISTS: usize = 9;
+/// Base rotations (besides the centre and the identity) from which edges are turned
+/// parallel to faces.
+const ALIGN_BASES: usize = 4;
+/// Seed of the pseudo-random rotations: the same slices on every run.
+const SEED: u64 = 0x51ce_5eed_ac59_0001;
+
+/// A state with its witness.
+type Found = (Vec<PrincipalContact>, Pose);
+
+/// What a sweep found: the states with their witnesses (each state once, at the first
+/// sample that showed it), and the work done.
+#[derive(Clone, Debug, Default)]
+pub struct SliceFinds {
+    /// The states found, in the order of the slices and samples.
+    pub states: Vec<Found>,
+    /// Rotations swept.
+    pub slices: usize,
+    /// Translations whose state was read.
+    pub samples: usize,
+}
+
+impl Problem<'_> {
+    /// The states that show at the sweep's rotations (see the module's documentation),
+    /// each with a verified witness; degenerate states only when `degenerate`.
+    #[must_use]
+    pub fn states_in_slices(&self, degenerate: bool) -> SliceFinds {
+        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, &self.bounds, self.scale);
+        let slices = sweep.rotations(self.fixed, self.moving);
+        let per_slice: Vec<(usize, Vec<Found>)> = slices
+            .par_iter()
+            .map(|&angles| {
+                let samples = sweep.samples(angles);
+                let mut found: Vec<Found> = Vec::new();
+                for t in &samples {
+                    let pose = Pose::from_array([t.x, t.y, t.z, angles[0], angles[1], angles[2]]);
+                    if let Some(state) = self.verify(&pose)
+                        && (degenerate || !state.iter().any(|pc| pc.degenerate(self.fixed, self.moving)))
+                        && !found.iter().any(|(s, _)| *s == state)
+                    {
+                        found.push((state, pose));
+                    }
+                }
+                (samples.len(), found)
+            })
+            .collect();
+        let mut finds = SliceFinds {
+            slices: slices.len(),
+            ..SliceFinds::default()
+        };
+        for (samples, found) in per_slice {
+            finds.samples += samples;
+            for (state, pose) in found {
+                if !finds.states.iter().any(|(s, _)| *s == state) {
+                    finds.states.push((state, pose));
+                }
+            }
+        }
+        finds
+    }
+}
+
+/// A convex piece as the sweep needs it.
+struct Piece {
+    vertices: Vec<DVec3>,
+    normals: Vec<DVec3>,
+    /// Each edge once, as the normals of its two faces (its arc on the Gauss map).
+    arcs: Vec<(DVec3, DVec3)>,
+}
+
+impl Piece {
+    /// A piece mapped by `m` (a rigid motion, or a rotation and negation).
+    fn new(polytope: &ConvexPolytope, m: &DAffine3, eps: f64) -> Piece {
+        let vertices: Vec<DVec3> = polytope.vertices().iter().map(|&v| m.transform_point3(v)).collect();
+        let normals: Vec<DVec3> = polytope
+            .faces()
+            .iter()
+            .map(|f| m.transform_vector3(f.normal).normalize())
+            .collect();
+        let id = |p: DVec3| {
+            polytope
+                .vertices()
+                .iter()
+                .position(|v| v.distance(p) <= eps)
+                .unwrap_or(usize::MAX)
+        };
+        let mut faces_of: std::collections::BTreeMap<(usize, usize), Vec<usize>> = Default::default();
+        for (f, face) in polytope.faces().iter().enumerate() {
+            let ids: Vec<usize> = face.points.iter().map(|&p| id(p)).collect();
+            for k in 0..ids.len() {
+                let (a, b) = (ids[k], ids[(k + 1) % ids.len()]);
+                if a != b && a != usize::MAX && b != usize::MAX {
+                    faces_of.entry((a.min(b), a.max(b))).or_default().push(f);
+                }
+            }
+        }
+        let arcs = faces_of
+            .values()
+            .filter(|faces| faces.len() == 2)
+            .map(|faces| (normals[faces[0]], normals[faces[1]]))
+            .collect();
+        Piece {
+            vertices,
+            normals,
+            arcs,
+        }
+    }
+
+    /// The piece turned by `r` and reflected through the origin: `−R Q`.
+    fn turned_back(&self, r: &DMat3) -> Piece {
+        let minus = |v: &DVec3| -(*r * *v);
+        Piece {
+            vertices: self.vertices.iter().map(minus).collect(),
+            normals: self.normals.iter().map(minus).collect(),
+            arcs: self.arcs.iter().map(|(a, b)| (minus(a), minus(b))).collect(),
+        }
+    }
+
+    fn support(&self, n: DVec3) -> f64 {
+        self.vertices
+            .iter()
+            .map(|v| n.dot(*v))
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+
+    fn bounds(&self) -> (DVec3, DVec3) {
+        let lo = self.vertices.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+        let hi = self.vertices.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
+        (lo, hi)
+    }
+}
+
+/// A facet of a Minkowski difference: its plane and its polygon (counter-clockwise
+/// about the outward normal).
+#[derive(Clone, Debug)]
+struct Facet {
+    normal: DVec3,
+    offset: f64,
+    polygon: Vec<DVec3>,
+}
+
+/// A Minkowski difference `P ⊕ (−R Q)` of two convex pieces.
+struct Difference {
+    facets: Vec<Facet>,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl Difference {
+    /// The difference of `p` and `q` (already `−R Q`); `tol` is the length below which
+    /// points count as on a plane.
+    fn new(p: &Piece, q: &Piece, tol: f64) -> Difference {
+        let mut normals: Vec<DVec3> = p.normals.iter().chain(&q.normals).copied().collect();
+        for &(a1, a2) in &p.arcs {
+            for &(b1, b2) in &q.arcs {
+                if let Some(n) = arcs_cross(a1, a2, b1, b2) {
+                    normals.push(n);
+                }
+            }
+        }
+        let mut facets: Vec<Facet> = Vec::new();
+        for n in normals {
+            if facets.iter().any(|f| f.normal.dot(n) > 1.0 - 1e-12) {
+                continue;
+            }
+            let (hp, hq) = (p.support(n), q.support(n));
+            let near = |part: &Piece, h: f64| -> Vec<DVec3> {
+                part.vertices.iter().copied().filter(|v| n.dot(*v) >= h - tol).collect()
+            };
+            let (sp, sq) = (near(p, hp), near(q, hq));
+            let sums: Vec<DVec3> = sp.iter().flat_map(|a| sq.iter().map(move |b| *a + *b)).collect();
+            let polygon = hull_in_plane(&sums, n, tol);
+            if polygon.len() >= 3 && area(&polygon, n) > tol * tol {
+                facets.push(Facet {
+                    normal: n,
+                    offset: hp + hq,
+                    polygon,
+                });
+            }
+        }
+        let (plo, phi) = p.bounds();
+        let (qlo, qhi) = q.bounds();
+        Difference {
+            facets,
+            lo: plo + qlo,
+            hi: phi + qhi,
+        }
+    }
+
+    /// The open interval of `s` where `x0 + s d` is strictly inside (by more than
+    /// `tol`), if any.
+    fn inside_along(&self, x0: DVec3, d: DVec3, tol: f64) -> Option<(f64, f64)> {
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for f in &self.facets {
+            // f.normal · (x0 + s d) < f.offset − tol
+            let (a, b) = (f.normal.dot(d), f.offset - tol - f.normal.dot(x0));
+            if a.abs() < 1e-15 {
+                if b <= 0.0 {
+                    return None;
+                }
+            } else if a > 0.0 {
+                hi = hi.min(b / a);
+            } else {
+                lo = lo.max(b / a);
+            }
+            if lo >= hi {
+                return None;
+            }
+        }
+        Some((lo, hi))
+    }
+
+    fn meets(&self, lo: DVec3, hi: DVec3, pad: f64) -> bool {
+        (self.lo - pad).cmple(hi).all() && (lo - pad).cmple(self.hi).all()
+    }
+}
+
+/// The sweep's setting: the pieces, the translation box, the rotation bounds.
+struct Sweep {
+    fixed: Vec<Piece>,
+    moving: Vec<Piece>,
+    bounds: Bounds,
+    lo: DVec3,
+    hi: DVec3,
+    scale: f64,
+    /// `G⁻¹` as a rotation: takes the fixed part's directions into the frame of `t`.
+    to_frame: DMat3,
+}
+
+impl Sweep {
+    fn new(fixed: &Part, moving: &Part, assembled: &DAffine3, bounds: &Bounds, scale: f64) -> Sweep {
+        let eps = 1e-9 * scale;
+        // p_A = G (R p_B + t): the fixed part in the frame of R p_B + t is G⁻¹ P.
+        let to_frame = assembled.inverse();
+        let identity = DAffine3::IDENTITY;
+        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+        Sweep {
+            fixed: fixed
+                .convex_pieces()
+                .iter()
+                .map(|p| Piece::new(p, &to_frame, eps))
+                .collect(),
+            moving: moving
+                .convex_pieces()
+                .iter()
+                .map(|p| Piece::new(p, &identity, eps))
+                .collect(),
+            bounds: *bounds,
+            lo: DVec3::new(lo[0], lo[1], lo[2]),
+            hi: DVec3::new(hi[0], hi[1], hi[2]),
+            scale,
+            to_frame: to_frame.matrix3,
+        }
+    }
+
+    fn tol(&self) -> f64 {
+        1e-9 * self.scale
+    }
+
+    /// The translations to read at rotation `angles`: one in each region of a facet of
+    /// the union's boundary, the middle of each stretch where two facets meet, and the
+    /// points where a third crosses such a stretch; all inside the translation bounds.
+    fn samples(&self, angles: [f64; 3]) -> Vec<DVec3> {
+        let mut out = self.boundary_points(angles);
+        for t in &mut out {
+            *t = t.clamp(self.lo, self.hi);
+        }
+        out
+    }
+
+    /// The samples before clamping (see [`Sweep::samples`]).
+    fn boundary_points(&self, angles: [f64; 3]) -> Vec<DVec3> {
+        let r = Pose::from_array([0.0, 0.0, 0.0, angles[0], angles[1], angles[2]]).rotation();
+        let tol = self.tol();
+        let turned: Vec<Piece> = self.moving.iter().map(|q| q.turned_back(&r)).collect();
+        let mut differences = Vec::new();
+        for p in &self.fixed {
+            for q in &turned {
+                let (plo, phi) = p.bounds();
+                let (qlo, qhi) = q.bounds();
+                let (lo, hi) = (plo + qlo, phi + qhi);
+                if (lo - tol).cmple(self.hi).all() && (self.lo - tol).cmple(hi).all() {
+                    differences.push(Difference::new(p, q, tol));
+                }
+            }
+        }
+        // The facets inside the translation box, clipped to it.
+        let mut facets: Vec<(usize, Facet)> = Vec::new();
+        for (m, d) in differences.iter().enumerate() {
+            for f in &d.facets {
+                let polygon = self.clip_to_box(&f.polygon);
+                if polygon.len() >= 3 && area(&polygon, f.normal) > tol * tol {
+                    facets.push((m, Facet { polygon, ..f.clone() }));
+                }
+            }
+        }
+        let mut out = Vec::new();
+        for (m, f) in &facets {
+            for region in outside_others(f, *m, &differences, tol) {
+                out.push(centroid(&region));
+            }
+        }
+        for (i, (m1, f1)) in facets.iter().enumerate() {
+            for (m2, f2) in &facets[i + 1..] {
+                if m1 != m2 {
+                    meeting_points(f1, f2, [*m1, *m2], &differences, tol, &mut out);
+                }
+            }
+        }
+        out
+    }
+
+    /// The part of a polygon inside the translation bounds, padded by round-off: a
+    /// state may hold only at a bound (a face flat on the floor at the lowest height).
+    fn clip_to_box(&self, polygon: &[DVec3]) -> Vec<DVec3> {
+        let pad = 1e-12 * self.scale;
+        let mut poly = polygon.to_vec();
+        for k in 0..3 {
+            let axis = DVec3::AXES[k];
+            poly = clip_convex(&poly, axis, self.hi[k] + pad);
+            poly = clip_convex(&poly, -axis, -self.lo[k] + pad);
+            if poly.len() < 3 {
+                return Vec::new();
+            }
+        }
+        poly
+    }
+
+    /// The rotations swept, as pose angles, each inside the bounds, without repeats.
+    fn rotations(&self, fixed: &Part, moving: &Part) -> Vec<[f64; 3]> {
+        let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
+        let (lo, hi): ([f64; 3], [f64; 3]) = ([lo[3], lo[4], lo[5]], [hi[3], hi[4], hi[5]]);
+        let at = |w: [f64; 3]| -> [f64; 3] { std::array::from_fn(|k| lo[k] + (hi[k] - lo[k]) * w[k]) };
+        let mut out: Vec<[f64; 3]> = Vec::new();
+        let push = |a: [f64; 3], out: &mut Vec<[f64; 3]>| {
+            let inside = (0..3).all(|k| a[k] >= lo[k] - 1e-12 && a[k] <= hi[k] + 1e-12);
+            let a: [f64; 3] = std::array::from_fn(|k| a[k].clamp(lo[k], hi[k]));
+            if inside && !out.iter().any(|b| (0..3).all(|k| (a[k] - b[k]).abs() < 1e-12)) {
+                out.push(a);
+            }
+        };
+        // The centre, the identity, then the corners, the faces' and edges' centres.
+        push(at([0.5; 3]), &mut out);
+        push([0.0; 3], &mut out);
+        for code in 0..27u32 {
+            let w = [code % 3, (code / 3) % 3, code / 9].map(|c| 0.5 * f64::from(c));
+            push(at(w), &mut out);
+        }
+        let mut random = SplitMix(SEED);
+        for _ in 0..RANDOM {
+            push(at([random.unit(), random.unit(), random.unit()]), &mut out);
+        }
+        // On the faces and edges of the box of rotation bounds.
+        for k in 0..3 {
+            for end in [0.0, 1.0] {
+                for _ in 0..RANDOM_ON_FACES {
+                    let mut w = [random.unit(), random.unit(), random.unit()];
+                    w[k] = end;
+                    push(at(w), &mut out);
+                }
+                for j in (k + 1)..3 {
+                    for other in [0.0, 1.0] {
+                        for _ in 0..RANDOM_ON_EDGES {
+                            let mut w = [random.unit(), random.unit(), random.unit()];
+                            w[k] = end;
+                            w[j] = other;
+                            push(at(w), &mut out);
+                        }
+                    }
+                }
+            }
+        }
+        for factor in SHRUNK {
+            for _ in 0..RANDOM_SHRUNK {
+                push(at([0, 1, 2].map(|_| 0.5 + factor * (random.unit() - 0.5))), &mut out);
+            }
+        }
+        // Alignments, from the centre, the identity and a few random bases.
+        let mut bases = vec![rotation_of(at([0.5; 3])), DMat3::IDENTITY];
+        for _ in 0..ALIGN_BASES {
+            bases.push(rotation_of(at([random.unit(), random.unit(), random.unit()])));
+        }
+        for r in self.aligned(fixed, moving, &bases) {
+            let (rx, ry, rz) = euler_zyx(&r);
+            push([rx, ry, rz], &mut out);
+        }
+        out
+    }
+
+    /// Rotations that turn a face of the moving part flat against a face of the fixed
+    /// part (with several turns about the face's normal), or an edge of one part
+    /// parallel to a face of the other, each the smallest turn from a base.
+    fn aligned(&self, fixed: &Part, moving: &Part, bases: &[DMat3]) -> Vec<DMat3> {
+        let widths = self.bounds.width();
+        let reach: f64 = (3..6).map(|k| widths[k]).sum::<f64>();
+        let fixed_normals: Vec<DVec3> = fixed.faces().iter().map(|f| self.to_frame * f.normal).collect();
+        let moving_normals: Vec<DVec3> = moving.faces().iter().map(|f| f.normal).collect();
+        let edge_directions = |part: &Part| -> Vec<DVec3> {
+            part.edges()
+                .iter()
+                .map(|e| {
+                    let [a, b] = e.vertices;
+                    (part.vertex(b).position - part.vertex(a).position).normalize()
+                })
+                .collect()
+        };
+        let fixed_edges: Vec<DVec3> = edge_directions(fixed).into_iter().map(|d| self.to_frame * d).collect();
+        let moving_edges = edge_directions(moving);
+        let mut out = Vec::new();
+        for base in bases {
+            for &nf in &fixed_normals {
+                for &ng in &moving_normals {
+                    // R n_g = −n_f.
+                    let turned = *base * ng;
+                    if turned.angle_between(-nf) > reach {
+                        continue;
+                    }
+                    let r0 = rotation_between(turned, -nf) * *base;
+                    for k in 0..TWISTS {
+                        let phi = reach * (k as f64 / (TWISTS - 1) as f64 - 0.5);
+                        out.push(DMat3::from_axis_angle(nf, phi) * r0);
+                    }
+                }
+                // An edge of the moving part parallel to the fixed face: R d ⟂ n_f.
+                for &d in &moving_edges {
+                    let v = *base * d;
+                    if let Some(turn) = perpendicular_turn(v, nf, reach) {
+                        out.push(turn * *base);
+                    }
+                }
+            }
+            // An edge of the fixed part parallel to a moving face: R n_g ⟂ d.
+            for &d in &fixed_edges {
+                for &ng in &moving_normals {
+                    let v = *base * ng;
+                    if let Some(turn) = perpendicular_turn(v, d, reach) {
+                        out.push(turn * *base);
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The smallest rotation turning the unit vector `v` perpendicular to the unit vector
+/// `n`, when it is at most `reach`.
+fn perpendicular_turn(v: DVec3, n: DVec3, reach: f64) -> Option<DMat3> {
+    let off = v.dot(n);
+    if off.abs() < 1e-15 {
+        return None;
+    }
+    let target = (v - n * off).normalize_or_zero();
+    if target == DVec3::ZERO || v.angle_between(target) > reach {
+        return None;
+    }
+    Some(rotation_between(v, target))
+}
+
+/// The smallest rotation taking the unit vector `u` to the unit vector `w`.
+fn rotation_between(u: DVec3, w: DVec3) -> DMat3 {
+    let axis = u.cross(w);
+    let s = axis.length();
+    if s < 1e-15 {
+        // Parallel: no turn; opposite: a half turn about any perpendicular axis.
+        return if u.dot(w) > 0.0 {
+            DMat3::IDENTITY
+        } else {
+            DMat3::from_axis_angle(u.any_orthonormal_vector(), std::f64::consts::PI)
+        };
+    }
+    DMat3::from_axis_angle(axis / s, s.atan2(u.dot(w)))
+}
+
+fn rotation_of(angles: [f64; 3]) -> DMat3 {
+    Pose::from_array([0.0, 0.0, 0.0, angles[0], angles[1], angles[2]]).rotation()
+}
+
+/// The normal where the Gauss-map arcs `(a1, a2)` and `(b1, b2)` cross, if they do
+/// (strictly inside both).
+fn arcs_cross(a1: DVec3, a2: DVec3, b1: DVec3, b2: DVec3) -> Option<DVec3> {
+    let (na, nb) = (a1.cross(a2), b1.cross(b2));
+    let d = na.cross(nb);
+    let len = d.length();
+    if len < 1e-12 {
+        return None;
+    }
+    let d = d / len;
+    let between = |p: DVec3, q: DVec3, n: DVec3, x: DVec3| p.cross(x).dot(n) > 1e-12 && x.cross(q).dot(n) > 1e-12;
+    [d, -d]
+        .into_iter()
+        .find(|&x| between(a1, a2, na, x) && between(b1, b2, nb, x))
+}
+
+/// The convex hull of points lying on a plane of normal `n`, counter-clockwise about
+/// `n`, with points within `tol` merged.
+fn hull_in_plane(points: &[DVec3], n: DVec3, tol: f64) -> Vec<DVec3> {
+    let (u, w) = plane_basis(n);
+    let mut pts: Vec<(f64, f64, DVec3)> = points.iter().map(|&p| (p.dot(u), p.dot(w), p)).collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    pts.dedup_by(|a, b| (a.0 - b.0).abs() <= tol && (a.1 - b.1).abs() <= tol);
+    if pts.len() < 3 {
+        return pts.into_iter().map(|p| p.2).collect();
+    }
+    let turn = |o: &(f64, f64, DVec3), a: &(f64, f64, DVec3), b: &(f64, f64, DVec3)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut hull: Vec<(f64, f64, DVec3)> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &(f64, f64, DVec3)>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for p in iter {
+            while hull.len() >= start + 2 && turn(&hull[hull.len() - 2], &hull[hull.len() - 1], p) <= tol * tol {
+                hull.pop();
+            }
+            hull.push(*p);
+        }
+        hull.pop();
+    }
+    hull.into_iter().map(|p| p.2).collect()
+}
+
+fn area(polygon: &[DVec3], n: DVec3) -> f64 {
+    let mut sum = DVec3::ZERO;
+    for k in 0..polygon.len() {
+        sum += polygon[k].cross(polygon[(k + 1) % polygon.len()]);
+    }
+    0.5 * sum.dot(n)
+}
+
+fn centroid(polygon: &[DVec3]) -> DVec3 {
+    polygon.iter().copied().sum::<DVec3>() / polygon.len() as f64
+}
+
+/// The parts of facet `f` of difference `own` that lie inside no other difference (by
+/// more than `tol`), as convex polygons of some area.
+fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -> Vec<Vec<DVec3>> {
+    let (lo, hi) = polygon_bounds(&f.polygon);
+    let mut pieces = vec![f.polygon.clone()];
+    for (m, d) in differences.iter().enumerate() {
+        if m == own || !d.meets(lo, hi, tol) {
+            continue;
+        }
+        let mut kept = Vec::new();
+        for piece in pieces {
+            let mut rest = piece;
+            for g in &d.facets {
+                let cut = g.offset - tol;
+                if rest.iter().all(|p| g.normal.dot(*p) <= cut) {
+                    continue;
+                }
+                let outside = clip_convex(&rest, -g.normal, -cut);
+                if outside.len() >= 3 && area(&outside, f.normal).abs() > tol * tol {
+                    kept.push(outside);
+                }
+                rest = clip_convex(&rest, g.normal, cut);
+                if rest.len() < 3 {
+                    break;
+                }
+            }
+        }
+        pieces = kept;
+        if pieces.is_empty() {
+            break;
+        }
+    }
+    pieces
+}
+
+fn polygon_bounds(polygon: &[DVec3]) -> (DVec3, DVec3) {
+    let lo = polygon.iter().copied().fold(DVec3::INFINITY, DVec3::min);
+    let hi = polygon.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
+    (lo, hi)
+}
+
+/// The samples where facets `f1` and `f2` (of differences `own`) meet: the middle of
+/// every stretch of their common segment inside no other difference, and the ends of
+/// those stretches where another difference's boundary cuts the segment.
+fn meeting_points(f1: &Facet, f2: &Facet, own: [usize; 2], differences: &[Difference], tol: f64, out: &mut Vec<DVec3>) {
+    let d = f1.normal.cross(f2.normal);
+    let len = d.length();
+    if len < 1e-9 {
+        return;
+    }
+    let d = d / len;
+    // A point on both planes: x0 = a n1 + b n2.
+    let c = f1.normal.dot(f2.normal);
+    let det = 1.0 - c * c;
+    let a = (f1.offset - c * f2.offset) / det;
+    let b = (f2.offset - c * f1.offset) / det;
+    let x0 = f1.normal * a + f2.normal * b;
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+    for f in [f1, f2] {
+        let k = f.polygon.len();
+        for i in 0..k {
+            let (p, q) = (f.polygon[i], f.polygon[(i + 1) % k]);
+            let outward = (q - p).cross(f.normal);
+            let (s, h) = (outward.dot(d), outward.dot(p - x0));
+            // outward · (x0 + s d − p) <= 0
+            if s.abs() < 1e-15 {
+                if h < 0.0 {
+                    return;
+                }
+            } else if s > 0.0 {
+                hi = hi.min(h / s);
+            } else {
+                lo = lo.max(h / s);
+            }
+        }
+    }
+    if hi - lo <= tol {
+        return;
+    }
+    let mut stretches = vec![(lo, hi)];
+    let (plo, phi) = {
+        let (p, q) = (x0 + d * lo, x0 + d * hi);
+        (p.min(q), p.max(q))
+    };
+    for (m, diff) in differences.iter().enumerate() {
+        if own.contains(&m) || !diff.meets(plo, phi, tol) {
+            continue;
+        }
+        let Some((a, b)) = diff.inside_along(x0, d, tol) else {
+            continue;
+        };
+        let mut next = Vec::new();
+        for (s, e) in stretches {
+            if b <= s || a >= e {
+                next.push((s, e));
+                continue;
+            }
+            if a > s {
+                next.push((s, a));
+            }
+            if b < e {
+                next.push((b, e));
+            }
+        }
+        stretches = next;
+    }
+    for (s, e) in stretches {
+        if e - s > tol {
+            out.push(x0 + d * (0.5 * (s + e)));
+        }
+        for end in [s, e] {
+            if end > lo + tol && end < hi - tol {
+                out.push(x0 + d * end);
+            }
+        }
+    }
+}
+
+/// A small deterministic generator (SplitMix64): the same rotations on every run.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn unit(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::ContactKind;
+    use crate::examples::cube_and_slab;
+
+    fn kinds(finds: &SliceFinds) -> Vec<(usize, ContactKind)> {
+        let mut counts: Vec<(usize, ContactKind)> = Vec::new();
+        for (state, _) in &finds.states {
+            let kind = state[0].kind;
+            assert_eq!(state.len(), 1, "a single contact: {state:?}");
+            match counts.iter_mut().find(|(_, k)| *k == kind) {
+                Some((n, _)) => *n += 1,
+                None => counts.push((1, kind)),
+            }
+        }
+        counts.sort_by_key(|(_, k)| *k);
+        counts
+    }
+
+    /// Rotation pinned at a generic turn, the translations free enough to go all round:
+    /// the states are the facets of the Minkowski difference of two boxes, a zonotope
+    /// of six generators in general position, so 2·C(6,2) = 30 facets: a face of either
+    /// box on a vertex of the other (6 + 6) and 18 pairs of crossing edges.
+    #[test]
+    fn a_pinned_generic_turn_shows_every_facet_of_the_two_boxes_zonotope() {
+        let (slab, cube) = cube_and_slab();
+        let (rx, ry, rz) = (0.3, 0.2, 0.1);
+        let bounds = Bounds::try_new([-150.0, -150.0, -50.0, rx, ry, rz], [150.0, 150.0, 50.0, rx, ry, rz]).unwrap();
+        let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
+        let finds = problem.states_in_slices(false);
+        assert_eq!(finds.slices, 1);
+        assert_eq!(
+            kinds(&finds),
+            vec![
+                (6, ContactKind::FaceVertex),
+                (6, ContactKind::VertexFace),
+                (18, ContactKind::EdgeEdge)
+            ]
+        );
+        for (state, pose) in &finds.states {
+            assert_eq!(problem.verify(pose).as_ref(), Some(state));
+        }
+    }
+
+    /// The cube free to turn on the slab (small x, y bounds): its 26 states (DOMAIN
+    /// section 8), each a corner, an edge or a face of the cube on the slab, found by
+    /// the sweep alone: the corners at generic turns, the edges and faces at the
+    /// alignments.
+    #[test]
+    fn the_sweep_alone_finds_the_26_states_of_a_cube_free_to_turn_on_a_slab() {
+        let (slab, cube) = cube_and_slab();
+        let pi = std::f64::consts::PI;
+        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -pi, -pi, -pi], [1.0, 1.0, 30.0, pi, pi, pi]).unwrap();
+        let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
+        let finds = problem.states_in_slices(false);
+        assert_eq!(
+            kinds(&finds),
+            vec![
+                (6, ContactKind::FaceFace),
+                (12, ContactKind::FaceEdge),
+                (8, ContactKind::FaceVertex)
+            ]
+        );
+    }
+
+    #[test]
+    fn arcs_cross_where_their_great_circles_meet_inside_both() {
+        let (x, y, z) = (DVec3::X, DVec3::Y, DVec3::Z);
+        let n = arcs_cross(x, y, (x + y - z).normalize(), (x + y + z).normalize()).expect("they cross");
+        assert!(n.abs_diff_eq((x + y).normalize(), 1e-12), "{n}");
+        // Arcs on the same great circle, or apart, do not.
+        assert!(arcs_cross(x, y, -x, -y).is_none());
+        assert!(arcs_cross(x, (x + z).normalize(), y, (y + z).normalize()).is_none());
+    }
+}
