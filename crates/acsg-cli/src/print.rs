@@ -69,12 +69,6 @@ fn write_stages(out: &mut String, s: &Stats) {
          {} feasible, {:.3} s",
         s.ppc, s.ppc_unreachable, s.stage1_searched, s.stage1_optimisations, s.feasible_ppc, s.stage1_seconds
     );
-    let _ = writeln!(
-        out,
-        "slices   {} rotations, {} translations read off the pieces' Minkowski differences: {} states no \
-         search had found yet",
-        s.slices, s.slice_samples, s.found_by_slices
-    );
     // A pair gives one outcome per case of the mapping rules, and each outcome is
     // counted once: the counts below add up to more than the pairs.
     let _ = writeln!(
@@ -127,6 +121,12 @@ fn write_stages(out: &mut String, s: &Stats) {
         out,
         "           {:>8} states found while searching for another, {} found by descents; {:.3} s",
         s.found_on_the_way, s.found_by_descent, s.stage2_seconds
+    );
+    let _ = writeln!(
+        out,
+        "slices   {} rotations, {} translations read off the pieces' Minkowski differences: {} states no \
+         search had found",
+        s.slices, s.slice_samples, s.found_by_slices
     );
 }
 

@@ -45,7 +45,7 @@ use residual::{FaceShape, Margins, Side};
 pub(crate) use below::lies_strictly_below;
 pub(crate) use decide::Starts;
 pub use decide::{Decided, Decision, Proof, Rule};
-pub use slices::SliceFinds;
+pub use slices::{Density, SliceFinds};
 
 /// Every primitive principal contact (docs/concepts.md#ppc-and-klc): faces of the fixed part
 /// against convex vertices of the moving part (f-v), convex edges against convex edges

@@ -30,21 +30,52 @@ use crate::geometry::{ConvexPolytope, clip_convex, plane_basis};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose, euler_zyx};
 
-/// Pseudo-random rotations anywhere in the bounds.
-const RANDOM: usize = 400;
-/// Pseudo-random rotations on each face of the box of rotation bounds (one angle at a
-/// bound) and on each of its edges (two): the largest turns allowed.
-const RANDOM_ON_FACES: usize = 20;
-const RANDOM_ON_EDGES: usize = 10;
-/// Pseudo-random rotations in the bounds shrunk about their centre by these factors:
-/// a part in a tight hole turns only a little before it jams.
+/// How many rotations a sweep takes: always the centre of the rotation bounds, the
+/// identity (when inside) and the corners, then the counts here.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Density {
+    /// Also the centres of the faces and edges of the box of rotation bounds.
+    pub grid: bool,
+    /// Pseudo-random rotations anywhere in the bounds.
+    pub random: usize,
+    /// Pseudo-random rotations on each face of the box of rotation bounds (one angle at
+    /// a bound) and on each of its edges (two): the largest turns allowed.
+    pub on_faces: usize,
+    /// See `on_faces`.
+    pub on_edges: usize,
+    /// Pseudo-random rotations in the bounds shrunk about their centre by each of
+    /// [`SHRUNK`]: a part in a tight hole turns only a little before it jams.
+    pub shrunk: usize,
+    /// Random base rotations, besides the centre and the identity, from which faces
+    /// are turned flat on faces and edges parallel to faces.
+    pub align_bases: usize,
+}
+
+impl Density {
+    /// Over the whole bounds: a few hundred rotations.
+    pub const WIDE: Density = Density {
+        grid: true,
+        random: 400,
+        on_faces: 20,
+        on_edges: 10,
+        shrunk: 40,
+        align_bases: 4,
+    };
+    /// In a small box of poses a decision left open: a dozen.
+    pub const LOCAL: Density = Density {
+        grid: false,
+        random: 4,
+        on_faces: 0,
+        on_edges: 0,
+        shrunk: 0,
+        align_bases: 0,
+    };
+}
+
+/// The factors of [`Density::shrunk`].
 const SHRUNK: [f64; 3] = [0.1, 0.01, 0.001];
-const RANDOM_SHRUNK: usize = 40;
 /// Turns about an aligned face's normal tried per alignment.
 const TWISTS: usize = 9;
-/// Base rotations (besides the centre and the identity) from which edges are turned
-/// parallel to faces.
-const ALIGN_BASES: usize = 4;
 /// Seed of the pseudo-random rotations: the same slices on every run.
 const SEED: u64 = 0x51ce_5eed_ac59_0001;
 
@@ -64,12 +95,13 @@ pub struct SliceFinds {
 }
 
 impl Problem<'_> {
-    /// The states that show at the sweep's rotations (see the module's documentation),
-    /// each with a verified witness; degenerate states only when `degenerate`.
+    /// The states that show at the sweep's rotations within `within` (a box of the
+    /// bounds), at translations within it (see the module's documentation), each with a
+    /// verified witness; degenerate states only when `degenerate`.
     #[must_use]
-    pub fn states_in_slices(&self, degenerate: bool) -> SliceFinds {
-        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, &self.bounds, self.scale);
-        let slices = sweep.rotations(self.fixed, self.moving);
+    pub fn states_in_slices(&self, within: &Bounds, density: Density, degenerate: bool) -> SliceFinds {
+        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale);
+        let slices = sweep.rotations(self.fixed, self.moving, density);
         let per_slice: Vec<(usize, Vec<Found>)> = slices
             .par_iter()
             .map(|&angles| {
@@ -370,7 +402,7 @@ impl Sweep {
     }
 
     /// The rotations swept, as pose angles, each inside the bounds, without repeats.
-    fn rotations(&self, fixed: &Part, moving: &Part) -> Vec<[f64; 3]> {
+    fn rotations(&self, fixed: &Part, moving: &Part, density: Density) -> Vec<[f64; 3]> {
         let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
         let (lo, hi): ([f64; 3], [f64; 3]) = ([lo[3], lo[4], lo[5]], [hi[3], hi[4], hi[5]]);
         let at = |w: [f64; 3]| -> [f64; 3] { std::array::from_fn(|k| lo[k] + (hi[k] - lo[k]) * w[k]) };
@@ -387,23 +419,25 @@ impl Sweep {
         push([0.0; 3], &mut out);
         for code in 0..27u32 {
             let w = [code % 3, (code / 3) % 3, code / 9].map(|c| 0.5 * f64::from(c));
-            push(at(w), &mut out);
+            if density.grid || w.iter().all(|&x| x != 0.5) {
+                push(at(w), &mut out);
+            }
         }
         let mut random = SplitMix(SEED);
-        for _ in 0..RANDOM {
+        for _ in 0..density.random {
             push(at([random.unit(), random.unit(), random.unit()]), &mut out);
         }
         // On the faces and edges of the box of rotation bounds.
         for k in 0..3 {
             for end in [0.0, 1.0] {
-                for _ in 0..RANDOM_ON_FACES {
+                for _ in 0..density.on_faces {
                     let mut w = [random.unit(), random.unit(), random.unit()];
                     w[k] = end;
                     push(at(w), &mut out);
                 }
                 for j in (k + 1)..3 {
                     for other in [0.0, 1.0] {
-                        for _ in 0..RANDOM_ON_EDGES {
+                        for _ in 0..density.on_edges {
                             let mut w = [random.unit(), random.unit(), random.unit()];
                             w[k] = end;
                             w[j] = other;
@@ -414,13 +448,13 @@ impl Sweep {
             }
         }
         for factor in SHRUNK {
-            for _ in 0..RANDOM_SHRUNK {
+            for _ in 0..density.shrunk {
                 push(at([0, 1, 2].map(|_| 0.5 + factor * (random.unit() - 0.5))), &mut out);
             }
         }
         // Alignments, from the centre, the identity and a few random bases.
         let mut bases = vec![rotation_of(at([0.5; 3])), DMat3::IDENTITY];
-        for _ in 0..ALIGN_BASES {
+        for _ in 0..density.align_bases {
             bases.push(rotation_of(at([random.unit(), random.unit(), random.unit()])));
         }
         for r in self.aligned(fixed, moving, &bases) {
@@ -741,7 +775,7 @@ mod tests {
         let (rx, ry, rz) = (0.3, 0.2, 0.1);
         let bounds = Bounds::try_new([-150.0, -150.0, -50.0, rx, ry, rz], [150.0, 150.0, 50.0, rx, ry, rz]).unwrap();
         let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
-        let finds = problem.states_in_slices(false);
+        let finds = problem.states_in_slices(&bounds, Density::WIDE, false);
         assert_eq!(finds.slices, 1);
         assert_eq!(
             kinds(&finds),
@@ -766,7 +800,7 @@ mod tests {
         let pi = std::f64::consts::PI;
         let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -pi, -pi, -pi], [1.0, 1.0, 30.0, pi, pi, pi]).unwrap();
         let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
-        let finds = problem.states_in_slices(false);
+        let finds = problem.states_in_slices(&bounds, Density::WIDE, false);
         assert_eq!(
             kinds(&finds),
             vec![

@@ -14,7 +14,7 @@ use super::{Graph, Options, State, Stats, Undecided, neighbours, state_dof};
 use crate::contact::PrincipalContact;
 use crate::feasibility::{Decided, Decision, Problem};
 use crate::model::Part;
-use crate::pose::Pose;
+use crate::pose::{Bounds, Pose};
 
 /// The graph being built.
 pub(crate) struct Store<'a> {
@@ -132,6 +132,16 @@ impl<'a> Store<'a> {
             .iter()
             .filter(|u| !self.index.contains_key(&u.contacts))
             .map(|u| u.contacts.clone())
+            .collect()
+    }
+
+    /// The candidates still undecided, with the boxes of poses their decisions left
+    /// open, in the order they were met.
+    pub fn undecided_open(&self) -> Vec<(Vec<PrincipalContact>, Bounds)> {
+        self.undecided
+            .iter()
+            .filter(|u| !self.index.contains_key(&u.contacts))
+            .map(|u| (u.contacts.clone(), u.open))
             .collect()
     }
 

@@ -14,7 +14,11 @@
 //!    addition's witnesses.
 //!
 //! When the growth settles, every state is also searched one contact below, from its
-//! witness (descents); what they find grows again. A search that lands on a pose
+//! witness (descents); what they find grows again. When that settles too, the slice
+//! sweep reads the states at several hundred fixed rotations off the Minkowski
+//! differences of the convex pieces ([`Problem::states_in_slices`]), and then at a few
+//! rotations inside each box the undecided candidates' decisions left open; what it
+//! finds grows and descends again. A search that lands on a pose
 //! showing another state records that state (if new). Candidates of one round are
 //! decided in parallel and merged in a fixed order, so the output does not depend on
 //! the number of threads.
@@ -26,14 +30,14 @@ use rayon::prelude::*;
 use super::BATCH;
 use crate::contact::PrincipalContact;
 use crate::feasibility::{
-    Decided, Decision, PRIMITIVE_STARTS, Problem, SearchStats, Starts, is_primitive, lies_strictly_below,
-    single_contacts,
+    Decided, Decision, Density, PRIMITIVE_STARTS, Problem, SearchStats, SliceFinds, Starts, is_primitive,
+    lies_strictly_below, single_contacts,
 };
 use crate::graph::Progress;
 use crate::graph::rules;
 use crate::graph::store::Store;
 use crate::model::Part;
-use crate::pose::Pose;
+use crate::pose::{Bounds, Pose};
 
 /// How many times the effort stage 1 spends on each single contact: they are few, and
 /// every state grows from them.
@@ -68,15 +72,25 @@ struct Candidate {
 /// Runs both stages, then descents, until nothing new appears.
 pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn Fn(Progress) + Sync)) {
     decide_singles(store, problem, progress);
-    sweep_slices(store, problem);
     store.end_stage1();
     // Stage 2: every state grown by every single contact found, until nothing new
     // appears; then every state searched one contact below, and grown again.
     let mut grown = Vec::new();
     let mut retried = BTreeSet::new();
+    let mut swept = BTreeSet::new();
+    let mut sliced = false;
     loop {
         grow(store, problem, &mut grown, progress);
-        if descend(store, problem, &mut retried) == 0 {
+        if descend(store, problem, &mut retried) > 0 {
+            continue;
+        }
+        // When the searches settle, the slice sweep: last, so that every state the
+        // searches find keeps its witness whatever the sweep finds (the sweep only
+        // adds), and so that it counts what they missed.
+        if !std::mem::replace(&mut sliced, true) && sweep_slices(store, problem) > 0 {
+            continue;
+        }
+        if sweep_undecided(store, problem, &mut swept) == 0 {
             break;
         }
     }
@@ -131,18 +145,45 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
     }
 }
 
-/// The states that show at the slice sweep's rotations ([`Problem::states_in_slices`]):
-/// those on slivers of the bounds that no local search reaches, found without
-/// optimising. They grow and descend as every other state does.
-fn sweep_slices(store: &mut Store<'_>, problem: &Problem<'_>) {
-    let finds = problem.states_in_slices(store.options().degenerate);
-    store.stats.slices = finds.slices;
-    store.stats.slice_samples = finds.samples;
+/// The states that show at the slice sweep's rotations ([`Problem::states_in_slices`])
+/// over the whole bounds: those on slivers of the bounds that no local search reaches,
+/// found without optimising. They grow and descend as every other state does. The new
+/// states.
+fn sweep_slices(store: &mut Store<'_>, problem: &Problem<'_>) -> usize {
+    let finds = problem.states_in_slices(problem.bounds(), Density::WIDE, store.options().degenerate);
+    add_sliced(store, problem, finds)
+}
+
+/// Adds the states a sweep found; how many are new.
+fn add_sliced(store: &mut Store<'_>, problem: &Problem<'_>, finds: SliceFinds) -> usize {
+    store.stats.slices += finds.slices;
+    store.stats.slice_samples += finds.samples;
+    let mut new = 0;
     for (state, pose) in finds.states {
         if store.add_met(state, pose, problem) {
             store.stats.found_by_slices += 1;
+            new += 1;
         }
     }
+    new
+}
+
+/// Slices through the boxes of poses that the decisions of the candidates still
+/// undecided left open, each candidate once (`swept`): where a state holds only on a
+/// sliver, the box the prover could not close holds its poses. The new states.
+fn sweep_undecided(store: &mut Store<'_>, problem: &Problem<'_>, swept: &mut BTreeSet<Vec<PrincipalContact>>) -> usize {
+    let boxes: Vec<Bounds> = store
+        .undecided_open()
+        .into_iter()
+        .filter(|(contacts, _)| swept.insert(contacts.clone()))
+        .map(|(_, open)| open)
+        .collect();
+    let degenerate = store.options().degenerate;
+    let finds: Vec<SliceFinds> = boxes
+        .par_iter()
+        .map(|open| problem.states_in_slices(open, Density::LOCAL, degenerate))
+        .collect();
+    finds.into_iter().map(|found| add_sliced(store, problem, found)).sum()
 }
 
 /// A state met or searched for.
