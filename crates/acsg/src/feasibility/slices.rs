@@ -26,7 +26,7 @@ use rayon::prelude::*;
 
 use super::Problem;
 use crate::contact::PrincipalContact;
-use crate::geometry::{ConvexPolytope, clip_convex, plane_basis};
+use crate::geometry::{Aabb, ConvexPolytope, clip_convex, newell, plane_basis};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose, euler_zyx};
 
@@ -141,6 +141,7 @@ struct Piece {
     normals: Vec<DVec3>,
     /// Each edge once, as the normals of its two faces (its arc on the Gauss map).
     arcs: Vec<(DVec3, DVec3)>,
+    bounds: Aabb,
 }
 
 impl Piece {
@@ -175,6 +176,7 @@ impl Piece {
             .map(|faces| (normals[faces[0]], normals[faces[1]]))
             .collect();
         Piece {
+            bounds: Aabb::around(vertices.iter().copied()),
             vertices,
             normals,
             arcs,
@@ -184,8 +186,10 @@ impl Piece {
     /// The piece turned by `r` and reflected through the origin: `−R Q`.
     fn turned_back(&self, r: &DMat3) -> Piece {
         let minus = |v: &DVec3| -(*r * *v);
+        let vertices: Vec<DVec3> = self.vertices.iter().map(minus).collect();
         Piece {
-            vertices: self.vertices.iter().map(minus).collect(),
+            bounds: Aabb::around(vertices.iter().copied()),
+            vertices,
             normals: self.normals.iter().map(minus).collect(),
             arcs: self.arcs.iter().map(|(a, b)| (minus(a), minus(b))).collect(),
         }
@@ -197,11 +201,13 @@ impl Piece {
             .map(|v| n.dot(*v))
             .fold(f64::NEG_INFINITY, f64::max)
     }
+}
 
-    fn bounds(&self) -> (DVec3, DVec3) {
-        let lo = self.vertices.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-        let hi = self.vertices.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
-        (lo, hi)
+/// The box around the Minkowski difference of two pieces' boxes (`q` already `−R Q`).
+fn sum_bounds(p: &Piece, q: &Piece) -> Aabb {
+    Aabb {
+        min: p.bounds.min + q.bounds.min,
+        max: p.bounds.max + q.bounds.max,
     }
 }
 
@@ -217,8 +223,7 @@ struct Facet {
 /// A Minkowski difference `P ⊕ (−R Q)` of two convex pieces.
 struct Difference {
     facets: Vec<Facet>,
-    lo: DVec3,
-    hi: DVec3,
+    bounds: Aabb,
 }
 
 impl Difference {
@@ -253,12 +258,9 @@ impl Difference {
                 });
             }
         }
-        let (plo, phi) = p.bounds();
-        let (qlo, qhi) = q.bounds();
         Difference {
             facets,
-            lo: plo + qlo,
-            hi: phi + qhi,
+            bounds: sum_bounds(p, q),
         }
     }
 
@@ -285,8 +287,8 @@ impl Difference {
         Some((lo, hi))
     }
 
-    fn meets(&self, lo: DVec3, hi: DVec3, pad: f64) -> bool {
-        (self.lo - pad).cmple(hi).all() && (lo - pad).cmple(self.hi).all()
+    fn meets(&self, other: &Aabb, pad: f64) -> bool {
+        self.bounds.inflated(pad).overlaps(other)
     }
 }
 
@@ -295,8 +297,8 @@ struct Sweep {
     fixed: Vec<Piece>,
     moving: Vec<Piece>,
     bounds: Bounds,
-    lo: DVec3,
-    hi: DVec3,
+    /// The translation bounds.
+    translations: Aabb,
     scale: f64,
     /// `G⁻¹` as a rotation: takes the fixed part's directions into the frame of `t`.
     to_frame: DMat3,
@@ -321,8 +323,10 @@ impl Sweep {
                 .map(|p| Piece::new(p, &identity, eps))
                 .collect(),
             bounds: *bounds,
-            lo: DVec3::new(lo[0], lo[1], lo[2]),
-            hi: DVec3::new(hi[0], hi[1], hi[2]),
+            translations: Aabb {
+                min: DVec3::new(lo[0], lo[1], lo[2]),
+                max: DVec3::new(hi[0], hi[1], hi[2]),
+            },
             scale,
             to_frame: to_frame.matrix3,
         }
@@ -334,27 +338,16 @@ impl Sweep {
 
     /// The translations to read at rotation `angles`: one in each region of a facet of
     /// the union's boundary, the middle of each stretch where two facets meet, and the
-    /// points where a third crosses such a stretch; all inside the translation bounds.
+    /// points where a third crosses such a stretch; all inside the translation bounds
+    /// (the facets are clipped to them padded by round-off, the samples clamped back).
     fn samples(&self, angles: [f64; 3]) -> Vec<DVec3> {
-        let mut out = self.boundary_points(angles);
-        for t in &mut out {
-            *t = t.clamp(self.lo, self.hi);
-        }
-        out
-    }
-
-    /// The samples before clamping (see [`Sweep::samples`]).
-    fn boundary_points(&self, angles: [f64; 3]) -> Vec<DVec3> {
-        let r = Pose::from_array([0.0, 0.0, 0.0, angles[0], angles[1], angles[2]]).rotation();
+        let r = rotation_of(angles);
         let tol = self.tol();
         let turned: Vec<Piece> = self.moving.iter().map(|q| q.turned_back(&r)).collect();
         let mut differences = Vec::new();
         for p in &self.fixed {
             for q in &turned {
-                let (plo, phi) = p.bounds();
-                let (qlo, qhi) = q.bounds();
-                let (lo, hi) = (plo + qlo, phi + qhi);
-                if (lo - tol).cmple(self.hi).all() && (self.lo - tol).cmple(hi).all() {
+                if sum_bounds(p, q).inflated(tol).overlaps(&self.translations) {
                     differences.push(Difference::new(p, q, tol));
                 }
             }
@@ -382,6 +375,9 @@ impl Sweep {
                 }
             }
         }
+        for t in &mut out {
+            *t = t.clamp(self.translations.min, self.translations.max);
+        }
         out
     }
 
@@ -392,8 +388,8 @@ impl Sweep {
         let mut poly = polygon.to_vec();
         for k in 0..3 {
             let axis = DVec3::AXES[k];
-            poly = clip_convex(&poly, axis, self.hi[k] + pad);
-            poly = clip_convex(&poly, -axis, -self.lo[k] + pad);
+            poly = clip_convex(&poly, axis, self.translations.max[k] + pad);
+            poly = clip_convex(&poly, -axis, -self.translations.min[k] + pad);
             if poly.len() < 3 {
                 return Vec::new();
             }
@@ -473,12 +469,8 @@ impl Sweep {
         let fixed_normals: Vec<DVec3> = fixed.faces().iter().map(|f| self.to_frame * f.normal).collect();
         let moving_normals: Vec<DVec3> = moving.faces().iter().map(|f| f.normal).collect();
         let edge_directions = |part: &Part| -> Vec<DVec3> {
-            part.edges()
-                .iter()
-                .map(|e| {
-                    let [a, b] = e.vertices;
-                    (part.vertex(b).position - part.vertex(a).position).normalize()
-                })
+            (0..part.edges().len() as u32)
+                .map(|e| part.edge_direction(crate::model::EdgeId(e)))
                 .collect()
         };
         let fixed_edges: Vec<DVec3> = edge_directions(fixed).into_iter().map(|d| self.to_frame * d).collect();
@@ -601,12 +593,9 @@ fn hull_in_plane(points: &[DVec3], n: DVec3, tol: f64) -> Vec<DVec3> {
     hull.into_iter().map(|p| p.2).collect()
 }
 
+/// The signed area of a planar polygon, positive counter-clockwise about `n`.
 fn area(polygon: &[DVec3], n: DVec3) -> f64 {
-    let mut sum = DVec3::ZERO;
-    for k in 0..polygon.len() {
-        sum += polygon[k].cross(polygon[(k + 1) % polygon.len()]);
-    }
-    0.5 * sum.dot(n)
+    0.5 * newell(polygon.iter().copied()).dot(n)
 }
 
 fn centroid(polygon: &[DVec3]) -> DVec3 {
@@ -616,10 +605,10 @@ fn centroid(polygon: &[DVec3]) -> DVec3 {
 /// The parts of facet `f` of difference `own` that lie inside no other difference (by
 /// more than `tol`), as convex polygons of some area.
 fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -> Vec<Vec<DVec3>> {
-    let (lo, hi) = polygon_bounds(&f.polygon);
+    let around = Aabb::around(f.polygon.iter().copied());
     let mut pieces = vec![f.polygon.clone()];
     for (m, d) in differences.iter().enumerate() {
-        if m == own || !d.meets(lo, hi, tol) {
+        if m == own || !d.meets(&around, tol) {
             continue;
         }
         let mut kept = Vec::new();
@@ -646,12 +635,6 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -
         }
     }
     pieces
-}
-
-fn polygon_bounds(polygon: &[DVec3]) -> (DVec3, DVec3) {
-    let lo = polygon.iter().copied().fold(DVec3::INFINITY, DVec3::min);
-    let hi = polygon.iter().copied().fold(DVec3::NEG_INFINITY, DVec3::max);
-    (lo, hi)
 }
 
 /// The samples where facets `f1` and `f2` (of differences `own`) meet: the middle of
@@ -693,12 +676,9 @@ fn meeting_points(f1: &Facet, f2: &Facet, own: [usize; 2], differences: &[Differ
         return;
     }
     let mut stretches = vec![(lo, hi)];
-    let (plo, phi) = {
-        let (p, q) = (x0 + d * lo, x0 + d * hi);
-        (p.min(q), p.max(q))
-    };
+    let segment = Aabb::around([x0 + d * lo, x0 + d * hi]);
     for (m, diff) in differences.iter().enumerate() {
-        if own.contains(&m) || !diff.meets(plo, phi, tol) {
+        if own.contains(&m) || !diff.meets(&segment, tol) {
             continue;
         }
         let Some((a, b)) = diff.inside_along(x0, d, tol) else {

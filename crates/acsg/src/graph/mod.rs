@@ -123,7 +123,7 @@ pub struct Stats {
     /// States found by those searches.
     pub found_by_descent: usize,
     /// Rotations at which the states were read off the Minkowski differences of the
-    /// convex pieces (the slice sweep, after stage 1).
+    /// convex pieces (the slice sweep, when the searches settle).
     pub slices: usize,
     /// Translations whose state the sweep read.
     pub slice_samples: usize,

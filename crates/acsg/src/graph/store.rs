@@ -128,10 +128,9 @@ impl<'a> Store<'a> {
     /// The candidates left undecided so far whose states have not turned up since, in
     /// the order they were met.
     pub fn still_undecided(&self) -> Vec<Vec<PrincipalContact>> {
-        self.undecided
-            .iter()
-            .filter(|u| !self.index.contains_key(&u.contacts))
-            .map(|u| u.contacts.clone())
+        self.undecided_open()
+            .into_iter()
+            .map(|(contacts, _)| contacts)
             .collect()
     }
 
