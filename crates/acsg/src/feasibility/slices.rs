@@ -76,6 +76,10 @@ impl Density {
 const SHRUNK: [f64; 3] = [0.1, 0.01, 0.001];
 /// Turns about an aligned face's normal tried per alignment.
 const TWISTS: usize = 9;
+/// Small turns about an aligned face's normal (parts of the bounds' turn, both ways).
+const SMALL_TWISTS: [f64; 4] = [1e-4, 1e-3, 1e-2, 0.05];
+/// Where, in parts of an angle's bounds, the turns about one or two axes go.
+const AXIS_TURNS: [f64; 12] = [0.0, 0.02, 0.1, 0.2, 0.3, 0.4, 0.45, 0.499, 0.501, 0.55, 0.7, 0.95];
 /// Seed of the pseudo-random rotations: the same slices on every run.
 const SEED: u64 = 0x51ce_5eed_ac59_0001;
 
@@ -102,6 +106,34 @@ impl Problem<'_> {
     pub fn states_in_slices(&self, within: &Bounds, density: Density, degenerate: bool) -> SliceFinds {
         let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale);
         let slices = sweep.rotations(self.fixed, self.moving, density);
+        self.states_at(&sweep, &slices, degenerate)
+    }
+
+    /// The states that show at the given rotations (pose angles, each inside
+    /// `within`), at translations within `within`, each with a verified witness;
+    /// degenerate states only when `degenerate`.
+    #[must_use]
+    pub fn states_at_rotations(&self, within: &Bounds, rotations: &[[f64; 3]], degenerate: bool) -> SliceFinds {
+        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale);
+        self.states_at(&sweep, rotations, degenerate)
+    }
+
+    /// The states that show at rotations close to each of `seeds` (witnesses of states
+    /// already known), at translations anywhere in the bounds: each seed's rotation
+    /// turned a little (from 1e-5 to a tenth of the bounds' turn), and each such turn
+    /// carried onto the rotations that keep an edge parallel to a face, or two such
+    /// alignments at once (a face flat on a face), among those nearly kept at the seed.
+    /// States that hold only on a sliver next to a known one, with a face or an edge
+    /// lying in a face, show there.
+    #[must_use]
+    pub fn states_near(&self, seeds: &[Pose], degenerate: bool) -> SliceFinds {
+        let bounds = self.bounds();
+        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, bounds, self.scale);
+        let slices = sweep.rotations_near(self.fixed, self.moving, seeds);
+        self.states_at(&sweep, &slices, degenerate)
+    }
+
+    fn states_at(&self, sweep: &Sweep, slices: &[[f64; 3]], degenerate: bool) -> SliceFinds {
         let per_slice: Vec<(usize, Vec<Found>)> = slices
             .par_iter()
             .map(|&angles| {
@@ -354,18 +386,29 @@ impl Sweep {
         }
         // The facets inside the translation box, clipped to it.
         let mut facets: Vec<(usize, Facet)> = Vec::new();
+        let mut whole: Vec<&[DVec3]> = Vec::new();
         for (m, d) in differences.iter().enumerate() {
             for f in &d.facets {
                 let polygon = self.clip_to_box(&f.polygon);
                 if polygon.len() >= 3 && area(&polygon, f.normal) > tol * tol {
                     facets.push((m, Facet { polygon, ..f.clone() }));
+                    whole.push(&f.polygon);
                 }
             }
         }
         let mut out = Vec::new();
-        for (m, f) in &facets {
+        for ((m, f), polygon) in facets.iter().zip(&whole) {
             for region in outside_others(f, *m, &differences, tol) {
                 out.push(centroid(&region));
+                // Where the region runs along an edge of the difference (two facets of
+                // one difference: two contacts between the same two pieces, a face
+                // nearly on a face, say), the middle of that stretch.
+                for k in 0..region.len() {
+                    let middle = 0.5 * (region[k] + region[(k + 1) % region.len()]);
+                    if on_boundary(polygon, middle, tol) {
+                        out.push(middle);
+                    }
+                }
             }
         }
         for (i, (m1, f1)) in facets.iter().enumerate() {
@@ -443,6 +486,27 @@ impl Sweep {
                 }
             }
         }
+        // Turns about one axis alone, and about two (the third angle at the centre's or
+        // zero): they keep many edges parallel to faces at once.
+        let bases = if density.grid {
+            vec![at([0.5; 3]), [0.0; 3]]
+        } else {
+            Vec::new()
+        };
+        for base in bases {
+            for k in 0..3 {
+                for j in 0..3 {
+                    for &w in &AXIS_TURNS {
+                        let mut a = base;
+                        a[k] = lo[k] + (hi[k] - lo[k]) * w;
+                        if j != k {
+                            a[j] = lo[j] + (hi[j] - lo[j]) * (1.0 - w);
+                        }
+                        push(a, &mut out);
+                    }
+                }
+            }
+        }
         for factor in SHRUNK {
             for _ in 0..density.shrunk {
                 push(at([0, 1, 2].map(|_| 0.5 + factor * (random.unit() - 0.5))), &mut out);
@@ -456,6 +520,94 @@ impl Sweep {
         for r in self.aligned(fixed, moving, &bases) {
             let (rx, ry, rz) = euler_zyx(&r);
             push([rx, ry, rz], &mut out);
+        }
+        out
+    }
+
+    /// The alignments of the two parts, each once (parallel directions give the same).
+    fn perpendiculars(&self, fixed: &Part, moving: &Part) -> Vec<Perpendicular> {
+        let directions = |part: &Part, frame: DMat3| -> (Vec<DVec3>, Vec<DVec3>) {
+            let normals = part.faces().iter().map(|f| frame * f.normal).collect();
+            let edges = (0..part.edges().len() as u32)
+                .map(|e| frame * part.edge_direction(crate::model::EdgeId(e)))
+                .collect();
+            (distinct(normals), distinct(edges))
+        };
+        let (fixed_normals, fixed_edges) = directions(fixed, self.to_frame);
+        let (moving_normals, moving_edges) = directions(moving, DMat3::IDENTITY);
+        let mut out: Vec<Perpendicular> = Vec::new();
+        let pairs = moving_edges
+            .iter()
+            .flat_map(|&m| fixed_normals.iter().map(move |&f| (m, f)))
+            .chain(
+                moving_normals
+                    .iter()
+                    .flat_map(|&m| fixed_edges.iter().map(move |&f| (m, f))),
+            );
+        for (m, f) in pairs {
+            // An edge along a normal of the other part's face gives the same condition
+            // as that face's normal across the edge: keep one.
+            let same = |p: &Perpendicular| p.moving.dot(m).abs() > 1.0 - 1e-12 && p.fixed.dot(f).abs() > 1.0 - 1e-12;
+            if !out.iter().any(same) {
+                out.push(Perpendicular { moving: m, fixed: f });
+            }
+        }
+        out
+    }
+
+    /// The rotations of [`Problem::states_near`], as pose angles inside the bounds.
+    fn rotations_near(&self, fixed: &Part, moving: &Part, seeds: &[Pose]) -> Vec<[f64; 3]> {
+        let perpendiculars = self.perpendiculars(fixed, moving);
+        let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
+        let widest = (3..6).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+        let mut random = SplitMix(SEED ^ 0x6e65_6172);
+        let mut seen = std::collections::BTreeSet::new();
+        let mut out = Vec::new();
+        let mut push = |r: &DMat3, out: &mut Vec<[f64; 3]>| {
+            let (rx, ry, rz) = euler_zyx(r);
+            let a = [rx, ry, rz];
+            if (0..3).all(|k| a[k] >= lo[k + 3] && a[k] <= hi[k + 3]) && seen.insert(a.map(f64::to_bits)) {
+                out.push(a);
+            }
+        };
+        for seed in seeds {
+            let r_seed = seed.rotation();
+            // The alignments nearly kept, closest first, at most NEAR_ALIGNMENTS of them
+            // (a round peg keeps dozens nearly: their pairs would swamp the sweep).
+            let mut near: Vec<(f64, usize)> = perpendiculars
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (p.residual(&r_seed).abs(), i))
+                .filter(|&(g, _)| g < NEARLY_KEPT.sin())
+                .collect();
+            near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let near: Vec<Perpendicular> = near
+                .iter()
+                .take(NEAR_ALIGNMENTS)
+                .map(|&(_, i)| perpendiculars[i])
+                .collect();
+            for scale in NEAR_TURNS {
+                for _ in 0..NEAR_PER_TURN {
+                    let axis =
+                        DVec3::new(random.unit() - 0.5, random.unit() - 0.5, random.unit() - 0.5).normalize_or_zero();
+                    // Both ways: an alignment reached from either side of it shows the
+                    // contacts on that side (an edge of the cube down, or the other).
+                    for angle in [scale * widest, -scale * widest] {
+                        let r = DMat3::from_axis_angle(axis, angle) * r_seed;
+                        push(&r, &mut out);
+                        for (i, a) in near.iter().enumerate() {
+                            if let Some(on) = carried_onto(r, &[*a]) {
+                                push(&on, &mut out);
+                            }
+                            for b in &near[i + 1..] {
+                                if let Some(on) = carried_onto(r, &[*a, *b]) {
+                                    push(&on, &mut out);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
         }
         out
     }
@@ -489,6 +641,11 @@ impl Sweep {
                         let phi = reach * (k as f64 / (TWISTS - 1) as f64 - 0.5);
                         out.push(DMat3::from_axis_angle(nf, phi) * r0);
                     }
+                    for small in SMALL_TWISTS {
+                        for phi in [-small * reach, small * reach] {
+                            out.push(DMat3::from_axis_angle(nf, phi) * r0);
+                        }
+                    }
                 }
                 // An edge of the moving part parallel to the fixed face: R d ⟂ n_f.
                 for &d in &moving_edges {
@@ -511,6 +668,79 @@ impl Sweep {
         out
     }
 }
+
+/// An alignment: a direction of the moving part kept perpendicular to one of the fixed
+/// part (in the frame of the translations), `R m ⟂ f`. An edge parallel to a face is
+/// one; a face flat on a face is two (its normal perpendicular to two edges of the
+/// other face).
+#[derive(Clone, Copy, Debug)]
+struct Perpendicular {
+    moving: DVec3,
+    fixed: DVec3,
+}
+
+impl Perpendicular {
+    fn residual(&self, r: &DMat3) -> f64 {
+        (*r * self.moving).dot(self.fixed)
+    }
+
+    /// The residual's gradient in a small turn `ω` applied after `r`:
+    /// `d/dω ((I + [ω]×) R m) · f = ω · (R m × f)`.
+    fn gradient(&self, r: &DMat3) -> DVec3 {
+        (*r * self.moving).cross(self.fixed)
+    }
+}
+
+/// The rotation nearest `r` (in least turns, by Gauss-Newton steps) that keeps every
+/// alignment of `set`, if the steps converge.
+fn carried_onto(r: DMat3, set: &[Perpendicular]) -> Option<DMat3> {
+    let mut r = r;
+    for _ in 0..MAX_STEPS {
+        let g: Vec<f64> = set.iter().map(|p| p.residual(&r)).collect();
+        if g.iter().all(|v| v.abs() < 1e-15) {
+            return Some(r);
+        }
+        let rows: Vec<DVec3> = set.iter().map(|p| p.gradient(&r)).collect();
+        // ω = −Jᵀ (J Jᵀ)⁻¹ g, the least turn that zeroes the linearised residuals.
+        let omega = match rows.as_slice() {
+            [a] => {
+                let n = a.length_squared();
+                if n < 1e-24 {
+                    return None;
+                }
+                -*a * (g[0] / n)
+            }
+            [a, b] => {
+                let (aa, ab, bb) = (a.dot(*a), a.dot(*b), b.dot(*b));
+                let det = aa * bb - ab * ab;
+                if det.abs() < 1e-18 {
+                    return None;
+                }
+                let y0 = (bb * g[0] - ab * g[1]) / det;
+                let y1 = (aa * g[1] - ab * g[0]) / det;
+                -(*a * y0 + *b * y1)
+            }
+            _ => return None,
+        };
+        r = DMat3::from_axis_angle(omega.normalize_or_zero(), omega.length()) * r;
+        if omega.length() == 0.0 {
+            return None;
+        }
+    }
+    None
+}
+
+/// Gauss-Newton steps at most in [`carried_onto`].
+const MAX_STEPS: usize = 30;
+/// How far from the seed's rotation the sweep near it turns, in parts of the bounds'
+/// largest angle width.
+const NEAR_TURNS: [f64; 5] = [1e-5, 1e-4, 1e-3, 1e-2, 1e-1];
+/// Random axes per scale of [`NEAR_TURNS`], each turned about both ways.
+const NEAR_PER_TURN: usize = 1;
+/// An alignment counts as nearly kept at a seed within this angle (radians).
+const NEARLY_KEPT: f64 = 0.05;
+/// The most alignments nearly kept at a seed that the sweep carries turns onto.
+const NEAR_ALIGNMENTS: usize = 8;
 
 /// The smallest rotation turning the unit vector `v` perpendicular to the unit vector
 /// `n`, when it is at most `reach`.
@@ -539,6 +769,17 @@ fn rotation_between(u: DVec3, w: DVec3) -> DMat3 {
         };
     }
     DMat3::from_axis_angle(axis / s, s.atan2(u.dot(w)))
+}
+
+/// The directions, each once up to sign.
+fn distinct(directions: Vec<DVec3>) -> Vec<DVec3> {
+    let mut out: Vec<DVec3> = Vec::new();
+    for d in directions {
+        if d.length_squared() > 0.5 && !out.iter().any(|o| o.dot(d).abs() > 1.0 - 1e-12) {
+            out.push(d);
+        }
+    }
+    out
 }
 
 fn rotation_of(angles: [f64; 3]) -> DMat3 {
@@ -703,12 +944,23 @@ fn meeting_points(f1: &Facet, f2: &Facet, own: [usize; 2], differences: &[Differ
         if e - s > tol {
             out.push(x0 + d * (0.5 * (s + e)));
         }
+        // Both ends: another difference's boundary (three contacts), or an edge of
+        // either facet (a contact at an element's end, or a third facet of the same
+        // difference).
         for end in [s, e] {
-            if end > lo + tol && end < hi - tol {
-                out.push(x0 + d * end);
-            }
+            out.push(x0 + d * end);
         }
     }
+}
+
+/// Whether `p` lies within `tol` of an edge of the convex `polygon`.
+fn on_boundary(polygon: &[DVec3], p: DVec3, tol: f64) -> bool {
+    (0..polygon.len()).any(|k| {
+        let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+        let ab = b - a;
+        let s = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        (a + ab * s).distance(p) <= tol
+    })
 }
 
 /// A small deterministic generator (SplitMix64): the same rotations on every run.
@@ -789,6 +1041,41 @@ mod tests {
                 (8, ContactKind::FaceVertex)
             ]
         );
+    }
+
+    /// The cube lying flat on the slab, tilting up to 10° about x and y: from that one
+    /// witness, the sweep near it finds the four states with an edge of the cube's
+    /// bottom on the slab (DOMAIN section 8: 1 + 4 + 4 states in all). Those hold only
+    /// where a tilt lays the edge exactly flat, which no random turn hits: they show
+    /// where the sweep carries its turns onto the alignments kept at the seed.
+    #[test]
+    fn the_sweep_near_a_face_on_the_slab_finds_each_bottom_edge_on_the_slab() {
+        let (slab, cube) = cube_and_slab();
+        let tilt = 10f64.to_radians();
+        let bounds = Bounds::try_new(
+            [-1.0, -1.0, 0.0, -tilt, -tilt, -tilt],
+            [1.0, 1.0, 30.0, tilt, tilt, tilt],
+        )
+        .unwrap();
+        let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
+        let flat = Pose::from_array([0.0; 6]);
+        let state = problem.verify(&flat).expect("flat on the slab");
+        assert_eq!(state.len(), 1);
+        assert_eq!(state[0].kind, ContactKind::FaceFace);
+        let finds = problem.states_near(&[flat], false);
+        let mut edges: Vec<PrincipalContact> = finds
+            .states
+            .iter()
+            .filter(|(s, _)| s.len() == 1 && s[0].kind == ContactKind::FaceEdge)
+            .map(|(s, _)| s[0])
+            .collect();
+        edges.sort();
+        edges.dedup();
+        assert_eq!(edges.len(), 4, "{edges:?}");
+        for (state, pose) in &finds.states {
+            assert_eq!(problem.verify(pose).as_ref(), Some(state));
+            assert!(bounds.contains(pose, 1e-9, 1e-12), "{pose:?}");
+        }
     }
 
     #[test]

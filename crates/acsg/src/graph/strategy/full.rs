@@ -79,6 +79,7 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
     let mut retried = BTreeSet::new();
     let mut swept = BTreeSet::new();
     let mut sliced = false;
+    let mut seeded = 0;
     loop {
         grow(store, problem, &mut grown, progress);
         if descend(store, problem, &mut retried) > 0 {
@@ -88,6 +89,9 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
         // searches find keeps its witness whatever the sweep finds (the sweep only
         // adds), and so that it counts what they missed.
         if !std::mem::replace(&mut sliced, true) && sweep_slices(store, problem) > 0 {
+            continue;
+        }
+        if sweep_near(store, problem, &mut seeded) > 0 {
             continue;
         }
         if sweep_undecided(store, problem, &mut swept) == 0 {
@@ -151,6 +155,20 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
 /// states.
 fn sweep_slices(store: &mut Store<'_>, problem: &Problem<'_>) -> usize {
     let finds = problem.states_in_slices(problem.bounds(), Density::WIDE, store.options().degenerate);
+    add_sliced(store, problem, finds)
+}
+
+/// The states that show at rotations close to the witnesses of the states found since
+/// the last call (`seeded` of them were swept before): a state that holds only on a
+/// sliver next to a known one (an edge lying in a face while a face lies on a face)
+/// shows there. The new states.
+fn sweep_near(store: &mut Store<'_>, problem: &Problem<'_>, seeded: &mut usize) -> usize {
+    let seeds: Vec<Pose> = store.states()[*seeded..].iter().filter_map(|s| s.witness).collect();
+    *seeded = store.states().len();
+    if seeds.is_empty() {
+        return 0;
+    }
+    let finds = problem.states_near(&seeds, store.options().degenerate);
     add_sliced(store, problem, finds)
 }
 
