@@ -133,6 +133,17 @@ impl Problem<'_> {
         self.states_at(&sweep, &slices, degenerate)
     }
 
+    /// Whether no exclusion rule of the decisions rules `state` out at `pose` itself. A
+    /// sample at a nearly aligned rotation can read as a state that another reading of
+    /// the same pose would not give (a corner on a wall whose edge runs within the
+    /// tolerance of the wall all along its part over it, up to the wall's rim); the
+    /// rotation conditions know those readings, and every state reported must survive
+    /// them at its witness.
+    fn survives_exclusions(&self, state: &[PrincipalContact], pose: &Pose) -> bool {
+        let x = pose.to_array();
+        Bounds::try_new(x, x).is_ok_and(|at| self.exclusion(state, &at).is_none())
+    }
+
     fn states_at(&self, sweep: &Sweep, slices: &[[f64; 3]], degenerate: bool) -> SliceFinds {
         let per_slice: Vec<(usize, Vec<Found>)> = slices
             .par_iter()
@@ -158,7 +169,7 @@ impl Problem<'_> {
         for (samples, found) in per_slice {
             finds.samples += samples;
             for (state, pose) in found {
-                if !finds.states.iter().any(|(s, _)| *s == state) {
+                if !finds.states.iter().any(|(s, _)| *s == state) && self.survives_exclusions(&state, &pose) {
                     finds.states.push((state, pose));
                 }
             }
@@ -386,29 +397,18 @@ impl Sweep {
         }
         // The facets inside the translation box, clipped to it.
         let mut facets: Vec<(usize, Facet)> = Vec::new();
-        let mut whole: Vec<&[DVec3]> = Vec::new();
         for (m, d) in differences.iter().enumerate() {
             for f in &d.facets {
                 let polygon = self.clip_to_box(&f.polygon);
                 if polygon.len() >= 3 && area(&polygon, f.normal) > tol * tol {
                     facets.push((m, Facet { polygon, ..f.clone() }));
-                    whole.push(&f.polygon);
                 }
             }
         }
         let mut out = Vec::new();
-        for ((m, f), polygon) in facets.iter().zip(&whole) {
+        for (m, f) in &facets {
             for region in outside_others(f, *m, &differences, tol) {
                 out.push(centroid(&region));
-                // Where the region runs along an edge of the difference (two facets of
-                // one difference: two contacts between the same two pieces, a face
-                // nearly on a face, say), the middle of that stretch.
-                for k in 0..region.len() {
-                    let middle = 0.5 * (region[k] + region[(k + 1) % region.len()]);
-                    if on_boundary(polygon, middle, tol) {
-                        out.push(middle);
-                    }
-                }
             }
         }
         for (i, (m1, f1)) in facets.iter().enumerate() {
@@ -559,19 +559,19 @@ impl Sweep {
     fn rotations_near(&self, fixed: &Part, moving: &Part, seeds: &[Pose]) -> Vec<[f64; 3]> {
         let perpendiculars = self.perpendiculars(fixed, moving);
         let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
-        let widest = (3..6).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+        let width: [f64; 3] = std::array::from_fn(|k| hi[k + 3] - lo[k + 3]);
+        let free = width.map(|w| w > 0.0);
         let mut random = SplitMix(SEED ^ 0x6e65_6172);
         let mut seen = std::collections::BTreeSet::new();
         let mut out = Vec::new();
-        let mut push = |r: &DMat3, out: &mut Vec<[f64; 3]>| {
-            let (rx, ry, rz) = euler_zyx(r);
-            let a = [rx, ry, rz];
+        let mut push = |a: [f64; 3], out: &mut Vec<[f64; 3]>| {
             if (0..3).all(|k| a[k] >= lo[k + 3] && a[k] <= hi[k + 3]) && seen.insert(a.map(f64::to_bits)) {
                 out.push(a);
             }
         };
         for seed in seeds {
             let r_seed = seed.rotation();
+            let angles = [seed.rx, seed.ry, seed.rz];
             // The alignments nearly kept, closest first, at most NEAR_ALIGNMENTS of them
             // (a round peg keeps dozens nearly: their pairs would swamp the sweep).
             let mut near: Vec<(f64, usize)> = perpendiculars
@@ -588,20 +588,19 @@ impl Sweep {
                 .collect();
             for scale in NEAR_TURNS {
                 for _ in 0..NEAR_PER_TURN {
-                    let axis =
-                        DVec3::new(random.unit() - 0.5, random.unit() - 0.5, random.unit() - 0.5).normalize_or_zero();
+                    let towards: [f64; 3] = std::array::from_fn(|k| (2.0 * random.unit() - 1.0) * width[k]);
                     // Both ways: an alignment reached from either side of it shows the
                     // contacts on that side (an edge of the cube down, or the other).
-                    for angle in [scale * widest, -scale * widest] {
-                        let r = DMat3::from_axis_angle(axis, angle) * r_seed;
-                        push(&r, &mut out);
+                    for sign in [scale, -scale] {
+                        let turned: [f64; 3] = std::array::from_fn(|k| angles[k] + sign * towards[k]);
+                        push(turned, &mut out);
                         for (i, a) in near.iter().enumerate() {
-                            if let Some(on) = carried_onto(r, &[*a]) {
-                                push(&on, &mut out);
+                            if let Some(on) = carried_onto(turned, free, &[*a]) {
+                                push(on, &mut out);
                             }
                             for b in &near[i + 1..] {
-                                if let Some(on) = carried_onto(r, &[*a, *b]) {
-                                    push(&on, &mut out);
+                                if let Some(on) = carried_onto(turned, free, &[*a, *b]) {
+                                    push(on, &mut out);
                                 }
                             }
                         }
@@ -683,64 +682,87 @@ impl Perpendicular {
     fn residual(&self, r: &DMat3) -> f64 {
         (*r * self.moving).dot(self.fixed)
     }
-
-    /// The residual's gradient in a small turn `ω` applied after `r`:
-    /// `d/dω ((I + [ω]×) R m) · f = ω · (R m × f)`.
-    fn gradient(&self, r: &DMat3) -> DVec3 {
-        (*r * self.moving).cross(self.fixed)
-    }
 }
 
-/// The rotation nearest `r` (in least turns, by Gauss-Newton steps) that keeps every
-/// alignment of `set`, if the steps converge.
-fn carried_onto(r: DMat3, set: &[Perpendicular]) -> Option<DMat3> {
-    let mut r = r;
+/// The pose angles nearest `a` (least change of the angles `free` to move, by
+/// Gauss-Newton steps) at which every alignment of `set` is kept, if the steps
+/// converge. Angles pinned by the bounds stay where they are.
+fn carried_onto(a: [f64; 3], free: [bool; 3], set: &[Perpendicular]) -> Option<[f64; 3]> {
+    let mut a = a;
     for _ in 0..MAX_STEPS {
+        let r = rotation_of(a);
         let g: Vec<f64> = set.iter().map(|p| p.residual(&r)).collect();
         if g.iter().all(|v| v.abs() < 1e-15) {
-            return Some(r);
+            return Some(a);
         }
-        let rows: Vec<DVec3> = set.iter().map(|p| p.gradient(&r)).collect();
-        // ω = −Jᵀ (J Jᵀ)⁻¹ g, the least turn that zeroes the linearised residuals.
-        let omega = match rows.as_slice() {
-            [a] => {
-                let n = a.length_squared();
+        let partials = angle_partials(a);
+        let rows: Vec<DVec3> = set
+            .iter()
+            .map(|p| {
+                DVec3::from_array(std::array::from_fn(|k| {
+                    if free[k] {
+                        (partials[k] * p.moving).dot(p.fixed)
+                    } else {
+                        0.0
+                    }
+                }))
+            })
+            .collect();
+        // δ = −Jᵀ (J Jᵀ)⁻¹ g, the least change that zeroes the linearised residuals.
+        let step = match rows.as_slice() {
+            [u] => {
+                let n = u.length_squared();
                 if n < 1e-24 {
                     return None;
                 }
-                -*a * (g[0] / n)
+                -*u * (g[0] / n)
             }
-            [a, b] => {
-                let (aa, ab, bb) = (a.dot(*a), a.dot(*b), b.dot(*b));
-                let det = aa * bb - ab * ab;
+            [u, v] => {
+                let (uu, uv, vv) = (u.dot(*u), u.dot(*v), v.dot(*v));
+                let det = uu * vv - uv * uv;
                 if det.abs() < 1e-18 {
                     return None;
                 }
-                let y0 = (bb * g[0] - ab * g[1]) / det;
-                let y1 = (aa * g[1] - ab * g[0]) / det;
-                -(*a * y0 + *b * y1)
+                let y0 = (vv * g[0] - uv * g[1]) / det;
+                let y1 = (uu * g[1] - uv * g[0]) / det;
+                -(*u * y0 + *v * y1)
             }
             _ => return None,
         };
-        r = DMat3::from_axis_angle(omega.normalize_or_zero(), omega.length()) * r;
-        if omega.length() == 0.0 {
+        if step == DVec3::ZERO || !step.is_finite() {
             return None;
         }
+        a = std::array::from_fn(|k| a[k] + step[k]);
     }
     None
 }
 
+/// `∂R/∂rx`, `∂R/∂ry`, `∂R/∂rz` of `R = Rz Ry Rx` at the pose angles `a`.
+fn angle_partials(a: [f64; 3]) -> [DMat3; 3] {
+    let (rx, ry, rz) = (
+        DMat3::from_rotation_x(a[0]),
+        DMat3::from_rotation_y(a[1]),
+        DMat3::from_rotation_z(a[2]),
+    );
+    let skew = |v: DVec3| DMat3::from_cols(v.cross(DVec3::X), v.cross(DVec3::Y), v.cross(DVec3::Z));
+    [
+        rz * ry * rx * skew(DVec3::X),
+        rz * ry * skew(DVec3::Y) * rx,
+        rz * skew(DVec3::Z) * ry * rx,
+    ]
+}
+
 /// Gauss-Newton steps at most in [`carried_onto`].
 const MAX_STEPS: usize = 30;
-/// How far from the seed's rotation the sweep near it turns, in parts of the bounds'
-/// largest angle width.
-const NEAR_TURNS: [f64; 5] = [1e-5, 1e-4, 1e-3, 1e-2, 1e-1];
+/// How far from the seed's rotation the sweep near it turns, in parts of each angle's
+/// width in the bounds.
+const NEAR_TURNS: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 /// Random axes per scale of [`NEAR_TURNS`], each turned about both ways.
 const NEAR_PER_TURN: usize = 1;
 /// An alignment counts as nearly kept at a seed within this angle (radians).
 const NEARLY_KEPT: f64 = 0.05;
 /// The most alignments nearly kept at a seed that the sweep carries turns onto.
-const NEAR_ALIGNMENTS: usize = 8;
+const NEAR_ALIGNMENTS: usize = 4;
 
 /// The smallest rotation turning the unit vector `v` perpendicular to the unit vector
 /// `n`, when it is at most `reach`.
@@ -951,16 +973,6 @@ fn meeting_points(f1: &Facet, f2: &Facet, own: [usize; 2], differences: &[Differ
             out.push(x0 + d * end);
         }
     }
-}
-
-/// Whether `p` lies within `tol` of an edge of the convex `polygon`.
-fn on_boundary(polygon: &[DVec3], p: DVec3, tol: f64) -> bool {
-    (0..polygon.len()).any(|k| {
-        let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-        let ab = b - a;
-        let s = ((p - a).dot(ab) / ab.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-        (a + ab * s).distance(p) <= tol
-    })
 }
 
 /// A small deterministic generator (SplitMix64): the same rotations on every run.
