@@ -45,6 +45,7 @@ use residual::{FaceShape, Margins, Side};
 pub(crate) use below::lies_strictly_below;
 pub(crate) use decide::Starts;
 pub use decide::{Decided, Decision, Proof, Rule};
+pub(crate) use slices::THOROUGH_EFFORT;
 pub use slices::{Density, SliceFinds};
 
 /// Every primitive principal contact (docs/concepts.md#ppc-and-klc): faces of the fixed part

@@ -104,7 +104,14 @@ impl Problem<'_> {
     /// verified witness; degenerate states only when `degenerate`.
     #[must_use]
     pub fn states_in_slices(&self, within: &Bounds, density: Density, degenerate: bool) -> SliceFinds {
-        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale);
+        let sweep = Sweep::new(
+            self.fixed,
+            self.moving,
+            &self.assembled,
+            within,
+            self.scale,
+            self.effort >= THOROUGH_EFFORT,
+        );
         let slices = sweep.rotations(self.fixed, self.moving, density);
         self.states_at(&sweep, &slices, degenerate)
     }
@@ -114,7 +121,14 @@ impl Problem<'_> {
     /// degenerate states only when `degenerate`.
     #[must_use]
     pub fn states_at_rotations(&self, within: &Bounds, rotations: &[[f64; 3]], degenerate: bool) -> SliceFinds {
-        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale);
+        let sweep = Sweep::new(
+            self.fixed,
+            self.moving,
+            &self.assembled,
+            within,
+            self.scale,
+            self.effort >= THOROUGH_EFFORT,
+        );
         self.states_at(&sweep, rotations, degenerate)
     }
 
@@ -128,7 +142,14 @@ impl Problem<'_> {
     #[must_use]
     pub fn states_near(&self, seeds: &[Pose], degenerate: bool) -> SliceFinds {
         let bounds = self.bounds();
-        let sweep = Sweep::new(self.fixed, self.moving, &self.assembled, bounds, self.scale);
+        let sweep = Sweep::new(
+            self.fixed,
+            self.moving,
+            &self.assembled,
+            bounds,
+            self.scale,
+            self.effort >= THOROUGH_EFFORT,
+        );
         let slices = sweep.rotations_near(self.fixed, self.moving, seeds);
         self.states_at(&sweep, &slices, degenerate)
     }
@@ -169,7 +190,9 @@ impl Problem<'_> {
         for (samples, found) in per_slice {
             finds.samples += samples;
             for (state, pose) in found {
-                if !finds.states.iter().any(|(s, _)| *s == state) && self.survives_exclusions(&state, &pose) {
+                if !finds.states.iter().any(|(s, _)| *s == state)
+                    && (!sweep.thorough || self.survives_exclusions(&state, &pose))
+                {
                     finds.states.push((state, pose));
                 }
             }
@@ -345,10 +368,14 @@ struct Sweep {
     scale: f64,
     /// `G⁻¹` as a rotation: takes the fixed part's directions into the frame of `t`.
     to_frame: DMat3,
+    /// At an effort of [`THOROUGH_EFFORT`] or more: turns about one or two axes, small
+    /// twists of the face-on-face alignments, both ends of every stretch, and every
+    /// state read checked against the exclusion rules at its pose.
+    thorough: bool,
 }
 
 impl Sweep {
-    fn new(fixed: &Part, moving: &Part, assembled: &DAffine3, bounds: &Bounds, scale: f64) -> Sweep {
+    fn new(fixed: &Part, moving: &Part, assembled: &DAffine3, bounds: &Bounds, scale: f64, thorough: bool) -> Sweep {
         let eps = 1e-9 * scale;
         // p_A = G (R p_B + t): the fixed part in the frame of R p_B + t is G⁻¹ P.
         let to_frame = assembled.inverse();
@@ -372,6 +399,7 @@ impl Sweep {
             },
             scale,
             to_frame: to_frame.matrix3,
+            thorough,
         }
     }
 
@@ -414,7 +442,7 @@ impl Sweep {
         for (i, (m1, f1)) in facets.iter().enumerate() {
             for (m2, f2) in &facets[i + 1..] {
                 if m1 != m2 {
-                    meeting_points(f1, f2, [*m1, *m2], &differences, tol, &mut out);
+                    meeting_points(f1, f2, [*m1, *m2], &differences, tol, self.thorough, &mut out);
                 }
             }
         }
@@ -488,7 +516,7 @@ impl Sweep {
         }
         // Turns about one axis alone, and about two (the third angle at the centre's or
         // zero): they keep many edges parallel to faces at once.
-        let bases = if density.grid {
+        let bases = if density.grid && self.thorough {
             vec![at([0.5; 3]), [0.0; 3]]
         } else {
             Vec::new()
@@ -640,7 +668,7 @@ impl Sweep {
                         let phi = reach * (k as f64 / (TWISTS - 1) as f64 - 0.5);
                         out.push(DMat3::from_axis_angle(nf, phi) * r0);
                     }
-                    for small in SMALL_TWISTS {
+                    for small in SMALL_TWISTS.iter().filter(|_| self.thorough) {
                         for phi in [-small * reach, small * reach] {
                             out.push(DMat3::from_axis_angle(nf, phi) * r0);
                         }
@@ -761,6 +789,9 @@ const NEAR_TURNS: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 const NEAR_PER_TURN: usize = 1;
 /// An alignment counts as nearly kept at a seed within this angle (radians).
 const NEARLY_KEPT: f64 = 0.05;
+/// The effort from which the sweep is thorough (see `Sweep::thorough`) and also goes
+/// near every state found.
+pub(crate) const THOROUGH_EFFORT: u32 = 2;
 /// The most alignments nearly kept at a seed that the sweep carries turns onto.
 const NEAR_ALIGNMENTS: usize = 4;
 
@@ -903,7 +934,15 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -
 /// The samples where facets `f1` and `f2` (of differences `own`) meet: the middle of
 /// every stretch of their common segment inside no other difference, and the ends of
 /// those stretches where another difference's boundary cuts the segment.
-fn meeting_points(f1: &Facet, f2: &Facet, own: [usize; 2], differences: &[Difference], tol: f64, out: &mut Vec<DVec3>) {
+fn meeting_points(
+    f1: &Facet,
+    f2: &Facet,
+    own: [usize; 2],
+    differences: &[Difference],
+    tol: f64,
+    every_end: bool,
+    out: &mut Vec<DVec3>,
+) {
     let d = f1.normal.cross(f2.normal);
     let len = d.length();
     if len < 1e-9 {
@@ -970,7 +1009,9 @@ fn meeting_points(f1: &Facet, f2: &Facet, own: [usize; 2], differences: &[Differ
         // either facet (a contact at an element's end, or a third facet of the same
         // difference).
         for end in [s, e] {
-            out.push(x0 + d * end);
+            if every_end || (end > lo + tol && end < hi - tol) {
+                out.push(x0 + d * end);
+            }
         }
     }
 }

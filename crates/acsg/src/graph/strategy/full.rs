@@ -43,10 +43,6 @@ use crate::pose::{Bounds, Pose};
 /// every state grows from them.
 const SINGLE_BOOST: u32 = 4;
 
-/// The effort from which the slice sweep also goes near every state found
-/// ([`Problem::states_near`]).
-const NEAR_SWEEP_EFFORT: u32 = 2;
-
 /// Searches for the states holding a single contact that does not hold alone.
 const COUPLED_STARTS: usize = 4;
 
@@ -97,7 +93,8 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
         }
         // Near every state found: at a higher effort only (it costs as much again as the
         // rest on parts of many pieces).
-        if store.options().effort >= NEAR_SWEEP_EFFORT && sweep_near(store, problem, &mut seeded) > 0 {
+        if store.options().effort >= crate::feasibility::THOROUGH_EFFORT && sweep_near(store, problem, &mut seeded) > 0
+        {
             continue;
         }
         if sweep_undecided(store, problem, &mut swept) == 0 {
