@@ -104,37 +104,14 @@ impl Problem<'_> {
     /// verified witness; degenerate states only when `degenerate`.
     #[must_use]
     pub fn states_in_slices(&self, within: &Bounds, density: Density, degenerate: bool) -> SliceFinds {
-        let sweep = Sweep::new(
-            self.fixed,
-            self.moving,
-            &self.assembled,
-            within,
-            self.scale,
-            self.effort >= THOROUGH_EFFORT,
-        );
+        let sweep = self.sweep(within);
         let slices = sweep.rotations(self.fixed, self.moving, density);
         self.states_at(&sweep, &slices, degenerate)
     }
 
-    /// The states that show at the given rotations (pose angles, each inside
-    /// `within`), at translations within `within`, each with a verified witness;
-    /// degenerate states only when `degenerate`.
-    #[must_use]
-    pub fn states_at_rotations(&self, within: &Bounds, rotations: &[[f64; 3]], degenerate: bool) -> SliceFinds {
-        let sweep = Sweep::new(
-            self.fixed,
-            self.moving,
-            &self.assembled,
-            within,
-            self.scale,
-            self.effort >= THOROUGH_EFFORT,
-        );
-        self.states_at(&sweep, rotations, degenerate)
-    }
-
     /// The states that show at rotations close to each of `seeds` (witnesses of states
-    /// already known), at translations anywhere in the bounds: each seed's rotation
-    /// turned a little (from 1e-5 to a tenth of the bounds' turn), and each such turn
+    /// already known), at translations anywhere in the bounds: each seed's angles
+    /// moved a little (1e-4 to a tenth of each free angle's width), and each such turn
     /// carried onto the rotations that keep an edge parallel to a face, or two such
     /// alignments at once (a face flat on a face), among those nearly kept at the seed.
     /// States that hold only on a sliver next to a known one, with a face or an edge
@@ -142,14 +119,7 @@ impl Problem<'_> {
     #[must_use]
     pub fn states_near(&self, seeds: &[Pose], degenerate: bool) -> SliceFinds {
         let bounds = self.bounds();
-        let sweep = Sweep::new(
-            self.fixed,
-            self.moving,
-            &self.assembled,
-            bounds,
-            self.scale,
-            self.effort >= THOROUGH_EFFORT,
-        );
+        let sweep = self.sweep(bounds);
         let slices = sweep.rotations_near(self.fixed, self.moving, seeds);
         self.states_at(&sweep, &slices, degenerate)
     }
@@ -163,6 +133,12 @@ impl Problem<'_> {
     fn survives_exclusions(&self, state: &[PrincipalContact], pose: &Pose) -> bool {
         let x = pose.to_array();
         Bounds::try_new(x, x).is_ok_and(|at| self.exclusion(state, &at).is_none())
+    }
+
+    /// The sweep's setting over `within`.
+    fn sweep(&self, within: &Bounds) -> Sweep {
+        let thorough = self.effort >= THOROUGH_EFFORT;
+        Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale, thorough)
     }
 
     fn states_at(&self, sweep: &Sweep, slices: &[[f64; 3]], degenerate: bool) -> SliceFinds {
