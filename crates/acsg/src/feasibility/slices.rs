@@ -105,23 +105,33 @@ impl Problem<'_> {
     #[must_use]
     pub fn states_in_slices(&self, within: &Bounds, density: Density, degenerate: bool) -> SliceFinds {
         let sweep = self.sweep(within);
-        let slices = sweep.rotations(self.fixed, self.moving, density);
-        self.states_at(&sweep, &slices, degenerate)
+        let slices: Vec<Slice> = sweep
+            .rotations(self.fixed, self.moving, density)
+            .into_iter()
+            .map(|angles| Slice {
+                angles,
+                translations: sweep.translations,
+            })
+            .collect();
+        self.states_at(&sweep, &slices, degenerate, sweep.thorough)
     }
 
     /// The states that show at rotations close to each of `seeds` (witnesses of states
-    /// already known), at translations anywhere in the bounds: each seed's angles
-    /// moved a little (1e-4 to a tenth of each free angle's width), and each such turn
-    /// carried onto the rotations that keep an edge parallel to a face, or two such
-    /// alignments at once (a face flat on a face), among those nearly kept at the seed.
-    /// States that hold only on a sliver next to a known one, with a face or an edge
-    /// lying in a face, show there.
+    /// already known), at translations next to the seed's: each seed's angles moved a
+    /// little (1e-4 to a tenth of each free angle's width), and each such turn carried
+    /// onto the rotations that keep an edge parallel to a face, or two such alignments
+    /// at once (a face flat on a face), among those nearly kept at the seed. At each,
+    /// the translations read are those within twice the farthest the turn moves a point
+    /// of the moving part from the seed's translation, and a hundredth of the part size
+    /// more. States that hold only on a sliver next to a known one, with a face or an
+    /// edge lying in a face, show there. Each state read must also survive the
+    /// decisions' exclusion rules at its pose.
     #[must_use]
     pub fn states_near(&self, seeds: &[Pose], degenerate: bool) -> SliceFinds {
         let bounds = self.bounds();
         let sweep = self.sweep(bounds);
         let slices = sweep.rotations_near(self.fixed, self.moving, seeds);
-        self.states_at(&sweep, &slices, degenerate)
+        self.states_at(&sweep, &slices, degenerate, true)
     }
 
     /// Whether no exclusion rule of the decisions rules `state` out at `pose` itself. A
@@ -141,11 +151,13 @@ impl Problem<'_> {
         Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale, thorough)
     }
 
-    fn states_at(&self, sweep: &Sweep, slices: &[[f64; 3]], degenerate: bool) -> SliceFinds {
+    /// The states read at `slices`; with `checked`, only those that survive the
+    /// exclusion rules at their poses.
+    fn states_at(&self, sweep: &Sweep, slices: &[Slice], degenerate: bool, checked: bool) -> SliceFinds {
         let per_slice: Vec<(usize, Vec<Found>)> = slices
             .par_iter()
-            .map(|&angles| {
-                let samples = sweep.samples(angles);
+            .map(|&Slice { angles, translations }| {
+                let samples = sweep.samples(angles, &translations);
                 let mut found: Vec<Found> = Vec::new();
                 for t in &samples {
                     let pose = Pose::from_array([t.x, t.y, t.z, angles[0], angles[1], angles[2]]);
@@ -167,7 +179,7 @@ impl Problem<'_> {
             finds.samples += samples;
             for (state, pose) in found {
                 if !finds.states.iter().any(|(s, _)| *s == state)
-                    && (!sweep.thorough || self.survives_exclusions(&state, &pose))
+                    && (!checked || self.survives_exclusions(&state, &pose))
                 {
                     finds.states.push((state, pose));
                 }
@@ -175,6 +187,13 @@ impl Problem<'_> {
         }
         finds
     }
+}
+
+/// A rotation the sweep reads, and the translations it reads there.
+#[derive(Clone, Copy, Debug)]
+struct Slice {
+    angles: [f64; 3],
+    translations: Aabb,
 }
 
 /// A convex piece as the sweep needs it.
@@ -387,14 +406,14 @@ impl Sweep {
     /// the union's boundary, the middle of each stretch where two facets meet, and the
     /// points where a third crosses such a stretch; all inside the translation bounds
     /// (the facets are clipped to them padded by round-off, the samples clamped back).
-    fn samples(&self, angles: [f64; 3]) -> Vec<DVec3> {
+    fn samples(&self, angles: [f64; 3], translations: &Aabb) -> Vec<DVec3> {
         let r = rotation_of(angles);
         let tol = self.tol();
         let turned: Vec<Piece> = self.moving.iter().map(|q| q.turned_back(&r)).collect();
         let mut differences = Vec::new();
         for p in &self.fixed {
             for q in &turned {
-                if sum_bounds(p, q).inflated(tol).overlaps(&self.translations) {
+                if sum_bounds(p, q).inflated(tol).overlaps(translations) {
                     differences.push(Difference::new(p, q, tol));
                 }
             }
@@ -403,7 +422,7 @@ impl Sweep {
         let mut facets: Vec<(usize, Facet)> = Vec::new();
         for (m, d) in differences.iter().enumerate() {
             for f in &d.facets {
-                let polygon = self.clip_to_box(&f.polygon);
+                let polygon = self.clip_to_box(&f.polygon, translations);
                 if polygon.len() >= 3 && area(&polygon, f.normal) > tol * tol {
                     facets.push((m, Facet { polygon, ..f.clone() }));
                 }
@@ -423,20 +442,20 @@ impl Sweep {
             }
         }
         for t in &mut out {
-            *t = t.clamp(self.translations.min, self.translations.max);
+            *t = t.clamp(translations.min, translations.max);
         }
         out
     }
 
     /// The part of a polygon inside the translation bounds, padded by round-off: a
     /// state may hold only at a bound (a face flat on the floor at the lowest height).
-    fn clip_to_box(&self, polygon: &[DVec3]) -> Vec<DVec3> {
+    fn clip_to_box(&self, polygon: &[DVec3], translations: &Aabb) -> Vec<DVec3> {
         let pad = 1e-12 * self.scale;
         let mut poly = polygon.to_vec();
         for k in 0..3 {
             let axis = DVec3::AXES[k];
-            poly = clip_convex(&poly, axis, self.translations.max[k] + pad);
-            poly = clip_convex(&poly, -axis, -self.translations.min[k] + pad);
+            poly = clip_convex(&poly, axis, translations.max[k] + pad);
+            poly = clip_convex(&poly, -axis, -translations.min[k] + pad);
             if poly.len() < 3 {
                 return Vec::new();
             }
@@ -560,22 +579,46 @@ impl Sweep {
     }
 
     /// The rotations of [`Problem::states_near`], as pose angles inside the bounds.
-    fn rotations_near(&self, fixed: &Part, moving: &Part, seeds: &[Pose]) -> Vec<[f64; 3]> {
+    fn rotations_near(&self, fixed: &Part, moving: &Part, seeds: &[Pose]) -> Vec<Slice> {
         let perpendiculars = self.perpendiculars(fixed, moving);
+        // How far a turn moves the moving part's points, per radian of the angles.
+        let lever = self
+            .moving
+            .iter()
+            .flat_map(|piece| piece.vertices.iter())
+            .map(|v| v.length())
+            .fold(0.0, f64::max);
         let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
         let width: [f64; 3] = std::array::from_fn(|k| hi[k + 3] - lo[k + 3]);
         let free = width.map(|w| w > 0.0);
         let mut random = SplitMix(SEED ^ 0x6e65_6172);
         let mut seen = std::collections::BTreeSet::new();
         let mut out = Vec::new();
-        let mut push = |a: [f64; 3], out: &mut Vec<[f64; 3]>| {
-            if (0..3).all(|k| a[k] >= lo[k + 3] && a[k] <= hi[k + 3]) && seen.insert(a.map(f64::to_bits)) {
-                out.push(a);
-            }
-        };
         for seed in seeds {
             let r_seed = seed.rotation();
             let angles = [seed.rx, seed.ry, seed.rz];
+            // The translations next to the seed's: as far as the turn moves the moving
+            // part's points (twice, and a little more), so that the states beside the
+            // seed's show, and not every state of the slice again.
+            let mut push = |a: [f64; 3], out: &mut Vec<Slice>| {
+                if !(0..3).all(|k| a[k] >= lo[k + 3] && a[k] <= hi[k + 3]) {
+                    return;
+                }
+                let turn: f64 = (0..3).map(|k| (a[k] - angles[k]).abs()).sum();
+                let reach = DVec3::splat(2.0 * lever * turn + NEAR_REACH_REL * self.scale);
+                let at = DVec3::new(seed.x, seed.y, seed.z);
+                let translations = Aabb {
+                    min: (at - reach).max(self.translations.min),
+                    max: (at + reach).min(self.translations.max),
+                };
+                let key = (a.map(f64::to_bits), translations.min.to_array().map(f64::to_bits));
+                if seen.insert(key) {
+                    out.push(Slice {
+                        angles: a,
+                        translations,
+                    });
+                }
+            };
             // The alignments nearly kept, closest first, at most NEAR_ALIGNMENTS of them
             // (a round peg keeps dozens nearly: their pairs would swamp the sweep).
             let mut near: Vec<(f64, usize)> = perpendiculars
@@ -763,6 +806,9 @@ const MAX_STEPS: usize = 30;
 const NEAR_TURNS: [f64; 4] = [1e-4, 1e-3, 1e-2, 1e-1];
 /// Random axes per scale of [`NEAR_TURNS`], each turned about both ways.
 const NEAR_PER_TURN: usize = 1;
+/// The translations the near sweep reads beyond those a turn reaches: this much of
+/// the part size around the seed's.
+const NEAR_REACH_REL: f64 = 1e-2;
 /// An alignment counts as nearly kept at a seed within this angle (radians).
 const NEARLY_KEPT: f64 = 0.05;
 /// The effort from which the sweep is thorough (see `Sweep::thorough`) and also goes
