@@ -745,7 +745,8 @@ struct PairRun {
 /// turns free, the generator leaves hundreds of candidates undecided on these pairs and
 /// spends minutes on each graph in the test build, which the CI cannot afford. The
 /// built-in example keeps all three turns (±18°) in the suite; the holes with all three
-/// are the `full_turns` pairs, run on demand (see `recall_on_demand` for any other).
+/// are the `full_turns` pairs, run on demand (see `recall_on_demand` for any other), as
+/// is the chamfered hole with two turns (`tilted_and_turned`).
 const PAIRS: [(&str, &str, &str, &str); 8] = [
     (
         "block_with_chamfered_hole_and_peg_tilted",
@@ -1172,8 +1173,12 @@ fn full_turns_peg_in_the_hole_passes_every_check() {
 
 /// Two turns at once, about y and z: a bottom corner alone on a side wall holds only
 /// with the peg pushed across the hole (found since the starts are probed on the
-/// contact's plane; before, 6 of the 130 oracle states were missing).
+/// contact's plane; before, 6 of the 130 oracle states were missing). On demand: at
+/// over two minutes in the test build it was the suite's largest graph, and the CI run
+/// must stay within 20 minutes.
+/// `cargo test --release -p acsg --test generation -- --ignored tilted_and_turned`.
 #[test]
+#[ignore = "two minutes in the test build; run on demand"]
 fn tilted_and_turned_peg_in_the_chamfered_hole_passes_every_check() {
     pair_run(7).check_all();
 }
