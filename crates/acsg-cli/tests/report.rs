@@ -18,17 +18,24 @@ fn acsg() -> Command {
     Command::cargo_bin("acsg").expect("binary built")
 }
 
-/// The built-in example, generated once for all tests: (folder, graph JSON).
+/// The built-in example, generated once for all tests (it takes a minute in the test
+/// build): (folder, graph JSON). The graph is written under its default name, copied
+/// to `demo.json` for the commands that read it.
 fn demo() -> &'static (tempfile::TempDir, Value) {
     static DEMO: OnceLock<(tempfile::TempDir, Value)> = OnceLock::new();
     DEMO.get_or_init(|| {
         let dir = tempfile::tempdir().unwrap();
         acsg()
             .current_dir(dir.path())
-            .args(["demo", "-o", "demo.json", "--html", "demo.html", "--no-timings"])
+            .args(["demo", "--html", "demo.html", "--no-timings"])
             .assert()
             .success()
-            .stdout(contains("wrote demo.json").and(contains("wrote demo.html")));
+            .stdout(
+                contains("card(PPC) 328")
+                    .and(contains("wrote acsg-demo.graph.json"))
+                    .and(contains("wrote demo.html")),
+            );
+        std::fs::copy(dir.path().join("acsg-demo.graph.json"), dir.path().join("demo.json")).unwrap();
         let text = std::fs::read_to_string(dir.path().join("demo.json")).unwrap();
         let json: Value = serde_json::from_str(&text).unwrap();
         (dir, json)
@@ -430,4 +437,80 @@ fn long_part_paths_do_not_overlap_the_summary_tables() {
 fn skipped(what: &str, why: &str) {
     use std::io::Write as _;
     let _ = writeln!(std::io::stderr().lock(), "SKIPPED {what}: {why}");
+}
+
+/// `acsg demo` with no files: the graph it writes (by default `acsg-demo.graph.json`)
+/// holds together (the run is the one every test here shares).
+#[test]
+fn demo_runs_with_no_files_and_writes_a_consistent_graph() {
+    let v: &Value = &demo().1;
+    assert_eq!(v["format"], "acsg-graph/1");
+    assert!(v["convention"].as_str().unwrap().contains("Rz(rz)*Ry(ry)*Rx(rx)"));
+    let states = v["states"].as_array().unwrap();
+    assert_eq!(states.len() as u64, v["stats"]["states"].as_u64().unwrap());
+    assert_eq!(v["stats"]["ppc"], 328);
+    let (faces, edges, vertices) = (
+        v["fixed"]["faces"].as_array().unwrap().len(),
+        v["fixed"]["edges"].as_array().unwrap().len(),
+        v["fixed"]["vertices"].as_array().unwrap().len(),
+    );
+    assert_eq!((faces, edges, vertices), (8, 18, 12));
+    // Ids index the parts' arrays; each witness has six values and a rigid 4x4 matrix.
+    for state in &states[1..] {
+        for c in state["contacts"].as_array().unwrap() {
+            for (role, id) in [("fixed", &c["fixed"]), ("moving", &c["moving"])] {
+                let id = id.as_str().unwrap();
+                let (kind, index) = id.split_at(1);
+                let array = match kind {
+                    "f" => "faces",
+                    "e" => "edges",
+                    _ => "vertices",
+                };
+                assert!(index.parse::<usize>().unwrap() < v[role][array].as_array().unwrap().len());
+            }
+        }
+        let witness = &state["witness"];
+        assert_eq!(witness["pose"].as_array().unwrap().len(), 6);
+        assert_eq!(witness["matrix"][3], serde_json::json!([0.0, 0.0, 0.0, 1.0]));
+    }
+    for edge in v["edges"].as_array().unwrap() {
+        assert!(edge[0].as_u64().unwrap() < edge[1].as_u64().unwrap());
+        assert!(edge[1].as_u64().unwrap() < states.len() as u64);
+    }
+    // Every key the schema requires is there, at the top and in the counts.
+    let schema: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../schema/graph.schema.json")).unwrap(),
+    )
+    .unwrap();
+    for (required, object) in [
+        (&schema["required"], v),
+        (&schema["properties"]["stats"]["required"], &v["stats"]),
+    ] {
+        for key in required.as_array().unwrap() {
+            assert!(object.get(key.as_str().unwrap()).is_some(), "missing {key}");
+        }
+    }
+    // Completeness: every candidate ended one way, and the flag says whether any is
+    // undecided (each then listed with the box its proof left open).
+    let s = &v["stats"];
+    let count = |k: &str| s[k].as_u64().unwrap();
+    assert_eq!(
+        count("candidates"),
+        count("witnessed") + count("infeasible") + count("undecided")
+    );
+    let undecided = v["undecided"].as_array().unwrap();
+    assert_eq!(undecided.len() as u64, count("undecided"));
+    assert_eq!(v["complete"].as_bool().unwrap(), undecided.is_empty());
+    for u in undecided {
+        assert!(!u["contacts"].as_array().unwrap().is_empty());
+        let (lo, hi) = (
+            u["open"]["min"].as_array().unwrap(),
+            u["open"]["max"].as_array().unwrap(),
+        );
+        assert!(
+            lo.iter()
+                .zip(hi)
+                .all(|(a, b)| a.as_f64().unwrap() <= b.as_f64().unwrap())
+        );
+    }
 }
