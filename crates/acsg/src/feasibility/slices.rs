@@ -105,15 +105,8 @@ impl Problem<'_> {
     #[must_use]
     pub fn states_in_slices(&self, within: &Bounds, density: Density, degenerate: bool) -> SliceFinds {
         let sweep = self.sweep(within);
-        let slices: Vec<Slice> = sweep
-            .rotations(self.fixed, self.moving, density)
-            .into_iter()
-            .map(|angles| Slice {
-                angles,
-                translations: sweep.translations,
-            })
-            .collect();
-        self.states_at(&sweep, &slices, degenerate, sweep.thorough)
+        let slices = sweep.rotations(self.fixed, self.moving, density);
+        self.states_at(&sweep, &slices, degenerate)
     }
 
     /// The states that show at rotations close to each of `seeds` (witnesses of states
@@ -122,14 +115,13 @@ impl Problem<'_> {
     /// carried onto the rotations that keep an edge parallel to a face, or two such
     /// alignments at once (a face flat on a face), among those nearly kept at the seed.
     /// States that hold only on a sliver next to a known one, with a face or an edge
-    /// lying in a face, show there. Each state read must also survive the decisions'
-    /// exclusion rules at its pose.
+    /// lying in a face, show there.
     #[must_use]
     pub fn states_near(&self, seeds: &[Pose], degenerate: bool) -> SliceFinds {
         let bounds = self.bounds();
         let sweep = self.sweep(bounds);
         let slices = sweep.rotations_near(self.fixed, self.moving, seeds);
-        self.states_at(&sweep, &slices, degenerate, true)
+        self.states_at(&sweep, &slices, degenerate)
     }
 
     /// Whether no exclusion rule of the decisions rules `state` out at `pose` itself. A
@@ -149,13 +141,11 @@ impl Problem<'_> {
         Sweep::new(self.fixed, self.moving, &self.assembled, within, self.scale, thorough)
     }
 
-    /// The states read at `slices`; with `checked`, only those that survive the
-    /// exclusion rules at their poses.
-    fn states_at(&self, sweep: &Sweep, slices: &[Slice], degenerate: bool, checked: bool) -> SliceFinds {
+    fn states_at(&self, sweep: &Sweep, slices: &[[f64; 3]], degenerate: bool) -> SliceFinds {
         let per_slice: Vec<(usize, Vec<Found>)> = slices
             .par_iter()
-            .map(|&Slice { angles, translations }| {
-                let samples = sweep.samples(angles, &translations);
+            .map(|&angles| {
+                let samples = sweep.samples(angles);
                 let mut found: Vec<Found> = Vec::new();
                 for t in &samples {
                     let pose = Pose::from_array([t.x, t.y, t.z, angles[0], angles[1], angles[2]]);
@@ -177,7 +167,7 @@ impl Problem<'_> {
             finds.samples += samples;
             for (state, pose) in found {
                 if !finds.states.iter().any(|(s, _)| *s == state)
-                    && (!checked || self.survives_exclusions(&state, &pose))
+                    && (!sweep.thorough || self.survives_exclusions(&state, &pose))
                 {
                     finds.states.push((state, pose));
                 }
@@ -185,13 +175,6 @@ impl Problem<'_> {
         }
         finds
     }
-}
-
-/// A rotation the sweep reads, and the translations it reads there.
-#[derive(Clone, Copy, Debug)]
-struct Slice {
-    angles: [f64; 3],
-    translations: Aabb,
 }
 
 /// A convex piece as the sweep needs it.
@@ -404,14 +387,14 @@ impl Sweep {
     /// the union's boundary, the middle of each stretch where two facets meet, and the
     /// points where a third crosses such a stretch; all inside the translation bounds
     /// (the facets are clipped to them padded by round-off, the samples clamped back).
-    fn samples(&self, angles: [f64; 3], translations: &Aabb) -> Vec<DVec3> {
+    fn samples(&self, angles: [f64; 3]) -> Vec<DVec3> {
         let r = rotation_of(angles);
         let tol = self.tol();
         let turned: Vec<Piece> = self.moving.iter().map(|q| q.turned_back(&r)).collect();
         let mut differences = Vec::new();
         for p in &self.fixed {
             for q in &turned {
-                if sum_bounds(p, q).inflated(tol).overlaps(translations) {
+                if sum_bounds(p, q).inflated(tol).overlaps(&self.translations) {
                     differences.push(Difference::new(p, q, tol));
                 }
             }
@@ -420,7 +403,7 @@ impl Sweep {
         let mut facets: Vec<(usize, Facet)> = Vec::new();
         for (m, d) in differences.iter().enumerate() {
             for f in &d.facets {
-                let polygon = self.clip_to_box(&f.polygon, translations);
+                let polygon = self.clip_to_box(&f.polygon);
                 if polygon.len() >= 3 && area(&polygon, f.normal) > tol * tol {
                     facets.push((m, Facet { polygon, ..f.clone() }));
                 }
@@ -440,20 +423,20 @@ impl Sweep {
             }
         }
         for t in &mut out {
-            *t = t.clamp(translations.min, translations.max);
+            *t = t.clamp(self.translations.min, self.translations.max);
         }
         out
     }
 
     /// The part of a polygon inside the translation bounds, padded by round-off: a
     /// state may hold only at a bound (a face flat on the floor at the lowest height).
-    fn clip_to_box(&self, polygon: &[DVec3], translations: &Aabb) -> Vec<DVec3> {
+    fn clip_to_box(&self, polygon: &[DVec3]) -> Vec<DVec3> {
         let pad = 1e-12 * self.scale;
         let mut poly = polygon.to_vec();
         for k in 0..3 {
             let axis = DVec3::AXES[k];
-            poly = clip_convex(&poly, axis, translations.max[k] + pad);
-            poly = clip_convex(&poly, -axis, -translations.min[k] + pad);
+            poly = clip_convex(&poly, axis, self.translations.max[k] + pad);
+            poly = clip_convex(&poly, -axis, -self.translations.min[k] + pad);
             if poly.len() < 3 {
                 return Vec::new();
             }
@@ -577,7 +560,7 @@ impl Sweep {
     }
 
     /// The rotations of [`Problem::states_near`], as pose angles inside the bounds.
-    fn rotations_near(&self, fixed: &Part, moving: &Part, seeds: &[Pose]) -> Vec<Slice> {
+    fn rotations_near(&self, fixed: &Part, moving: &Part, seeds: &[Pose]) -> Vec<[f64; 3]> {
         let perpendiculars = self.perpendiculars(fixed, moving);
         let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
         let width: [f64; 3] = std::array::from_fn(|k| hi[k + 3] - lo[k + 3]);
@@ -585,21 +568,14 @@ impl Sweep {
         let mut random = SplitMix(SEED ^ 0x6e65_6172);
         let mut seen = std::collections::BTreeSet::new();
         let mut out = Vec::new();
+        let mut push = |a: [f64; 3], out: &mut Vec<[f64; 3]>| {
+            if (0..3).all(|k| a[k] >= lo[k + 3] && a[k] <= hi[k + 3]) && seen.insert(a.map(f64::to_bits)) {
+                out.push(a);
+            }
+        };
         for seed in seeds {
             let r_seed = seed.rotation();
             let angles = [seed.rx, seed.ry, seed.rz];
-            // Every translation of the bounds: reading only those next to the seed's
-            // (twice as far as the turn moves a point, and 1e-2 L more) took a third of
-            // the samples but found 2 of the 4 states next to known ones on the chamfered
-            // hole turned about y and z.
-            let mut push = |a: [f64; 3], out: &mut Vec<Slice>| {
-                if (0..3).all(|k| a[k] >= lo[k + 3] && a[k] <= hi[k + 3]) && seen.insert(a.map(f64::to_bits)) {
-                    out.push(Slice {
-                        angles: a,
-                        translations: self.translations,
-                    });
-                }
-            };
             // The alignments nearly kept, closest first, at most NEAR_ALIGNMENTS of them
             // (a round peg keeps dozens nearly: their pairs would swamp the sweep).
             let mut near: Vec<(f64, usize)> = perpendiculars
