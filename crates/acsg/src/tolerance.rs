@@ -64,6 +64,13 @@ pub const RIGID_REL: f64 = 1e-6;
 
 /// Two unit directions whose cross product is shorter than this are parallel.
 pub const PARALLEL_SIN: f64 = 1e-9;
+/// The sine of the largest angle at which the reading over the overlap
+/// (docs/concepts.md#tolerances) takes an edge or a face as lying on a face without being
+/// within the tolerance of its plane from end to end, only over the part of it over the
+/// face (an edge lying on a wall and passing over the wall's rim). At a larger angle
+/// that part is a sliver narrower than the separation a witness keeps
+/// (`2 · CONTACT_REL / SEPARATION_REL`).
+pub const FLUSH_TILT: f64 = 1.4e-3;
 
 /// Element pairs that do not touch are searched for the smallest gap up to this
 /// distance, relative to `L`; farther pairs are reported only as "at least this far".

@@ -5,8 +5,10 @@
 use std::path::PathBuf;
 
 use acsg::contact::{ContactKind, ContactReport, ContactScene, PrincipalContact};
+use acsg::feasibility::Problem;
 use acsg::io::MeshSoup;
 use acsg::model::{EdgeId, ElementId, FaceId, Part, VertexId};
+use acsg::pose::{Bounds, Pose};
 use acsg::tolerance::CONTACT_REL;
 use glam::{DAffine3, DMat3, DVec3};
 
@@ -395,4 +397,53 @@ fn a_peg_corner_on_the_holes_chamfer_is_f_v() {
         vec![contact(ContactKind::FaceVertex, chamfer, vertex_at(&peg, corner))]
     );
     assert_clean(&report);
+}
+
+/// The box's side face flat on the L-block's wall over a strip 0.01 high below the
+/// wall's top rim (z = 150), leaning away from the wall by `lean` about its bottom edge.
+fn box_face_over_the_rim(lean: f64) -> DAffine3 {
+    let bottom = DVec3::new(150.0, 10.0, 50.0);
+    let r = DMat3::from_rotation_y(-lean);
+    DAffine3::from_mat3_translation(r, DVec3::new(150.0, 10.0, 149.99) - r * bottom)
+}
+
+/// Leaning 1e-5 rad, the box's face is within the tolerance of the wall over the
+/// strip where they overlap, and 1e-3 off it 100 higher, past the loose tolerance. Read
+/// from end to end, the bottom edge lies in the wall and the rim in the box's face:
+/// two parallel lines in both planes, which put the planes together, so read over the
+/// overlap (docs/concepts.md#tolerances) the faces lie on each other. Checkers differ
+/// there, so no witness may show either state; upright, every reading gives the faces
+/// on each other and the pose is a witness.
+#[test]
+fn a_face_leaning_over_a_walls_rim_is_no_witness() {
+    let (l_block, box_part) = (load("l_block.off"), load("box.off"));
+    let wall = face_with(&l_block, -DVec3::X, -150.0);
+    let side = face_with(&box_part, DVec3::X, 150.0);
+    let bottom_edge = edge_between(&box_part, DVec3::new(150.0, 10.0, 50.0), DVec3::new(150.0, 90.0, 50.0));
+    let leaning = box_face_over_the_rim(1e-5);
+    let report = evaluate(&l_block, &box_part, leaning);
+    assert!(
+        report
+            .contacts
+            .contains(&contact(ContactKind::FaceEdge, wall, bottom_edge)),
+        "read from end to end, the bottom edge lies in the wall: {report:?}"
+    );
+    assert!(
+        !report.contacts.iter().any(|pc| pc.kind == ContactKind::FaceFace),
+        "{report:?}"
+    );
+    assert_clean(&report);
+    let around = |placement: &DAffine3| {
+        let pose = Pose::from_affine(placement, &DAffine3::IDENTITY).expect("a rigid placement");
+        let x = pose.to_array();
+        let bounds = Bounds::try_new(x.map(|v| v - 1.0), x.map(|v| v + 1.0)).expect("valid bounds");
+        (pose, bounds)
+    };
+    let (pose, bounds) = around(&leaning);
+    let problem = Problem::new(&l_block, &box_part, bounds, DAffine3::IDENTITY);
+    assert_eq!(problem.verify(&pose), None, "the readings differ: no witness");
+    let (pose, bounds) = around(&box_face_over_the_rim(0.0));
+    let problem = Problem::new(&l_block, &box_part, bounds, DAffine3::IDENTITY);
+    let state = problem.verify(&pose).expect("upright, a witness");
+    assert!(state.contains(&contact(ContactKind::FaceFace, wall, side)), "{state:?}");
 }

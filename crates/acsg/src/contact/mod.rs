@@ -364,7 +364,31 @@ impl<'a> ContactScene<'a> {
         (d > tol && d < limit).then_some(d)
     }
 
+    /// P(X) as [`ContactScene::state`] gives it, but read over the overlap
+    /// ([`touch::Reading::Overlap`]): an edge or face lying on a face where they
+    /// overlap, whatever lies beyond the face's rim at a tiny angle. Where the two
+    /// readings differ, checkers may read either state, so no witness shows one.
+    #[must_use]
+    pub(crate) fn state_over_overlap(
+        &self,
+        moving_to_fixed: &DAffine3,
+        relative_tolerance: f64,
+    ) -> Vec<PrincipalContact> {
+        self.read(moving_to_fixed, relative_tolerance, None, touch::Reading::Overlap)
+            .contacts
+    }
+
     fn run(&self, moving_to_fixed: &DAffine3, relative_tolerance: f64, gap_search: Option<f64>) -> ContactReport {
+        self.read(moving_to_fixed, relative_tolerance, gap_search, touch::Reading::Ends)
+    }
+
+    fn read(
+        &self,
+        moving_to_fixed: &DAffine3,
+        relative_tolerance: f64,
+        gap_search: Option<f64>,
+        reading: touch::Reading,
+    ) -> ContactReport {
         let tol = scaled(relative_tolerance, self.scale);
         let with_gap = gap_search.is_some();
         let search = gap_search.map_or(tol, |g| g.max(2.0 * tol));
@@ -376,7 +400,7 @@ impl<'a> ContactScene<'a> {
             // The boxes' gap bounds the elements' distance from below.
             let box_gap = self.fixed_boxes[i as usize].gap(&moving.bounds(b));
             if box_gap <= tol {
-                if let Some(set) = touch::touch(&self.fixed, a, &moving, b, tol) {
+                if let Some(set) = touch::touch(&self.fixed, a, &moving, b, tol, reading) {
                     touches.push((a, b, set));
                     return;
                 }
@@ -440,5 +464,63 @@ impl ContactRecord {
             dof: contact.dof(),
             degenerate: contact.degenerate(fixed, moving),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DMat3, DVec3};
+
+    use super::*;
+    use crate::tolerance::CONTACT_REL;
+
+    /// The element of `part` whose corners are `points` (in any order).
+    fn element_at(part: &Part, points: &[DVec3]) -> ElementId {
+        let same = |e: ElementId| {
+            let corners = part.outline_points(e);
+            corners.len() == points.len() && points.iter().all(|p| corners.iter().any(|c| c.distance(*p) < 1e-9))
+        };
+        (0..part.faces().len() as u32)
+            .map(|i| ElementId::Face(crate::model::FaceId(i)))
+            .chain((0..part.edges().len() as u32).map(|i| ElementId::Edge(crate::model::EdgeId(i))))
+            .chain((0..part.vertices().len() as u32).map(|i| ElementId::Vertex(crate::model::VertexId(i))))
+            .find(|&e| same(e))
+            .expect("an element there")
+    }
+
+    /// The box's vertical edge on the L-block's wall (x = 150), its foot 40 below the
+    /// wall's top rim (z = 150) and its head 60 above it, yawed 0.1 rad and leaning off
+    /// the wall by `slope`: read from end to end it lies in the wall only upright; read
+    /// over the overlap, also while its stretch over the wall stays within the
+    /// tolerance, however far its head beyond the rim is.
+    #[test]
+    fn an_edge_over_a_walls_rim_lies_in_the_wall_read_over_the_overlap() {
+        let (l_block, box_part) = crate::examples::l_block_and_box();
+        let scene = ContactScene::new(&l_block, &box_part);
+        let tol = CONTACT_REL * scene.scale();
+        let (foot, head) = (DVec3::new(150.0, 10.0, 50.0), DVec3::new(150.0, 10.0, 150.0));
+        let placed = |slope: f64| {
+            let r = DMat3::from_rotation_y(-slope.atan()) * DMat3::from_rotation_z(0.1);
+            DAffine3::from_mat3_translation(r, DVec3::new(150.0, 30.0, 110.0) - r * foot)
+        };
+        let kinds = |contacts: &[PrincipalContact]| contacts.iter().map(|pc| pc.kind).collect::<Vec<_>>();
+        let edge = element_at(&box_part, &[foot, head]);
+        let on_wall = |contacts: &[PrincipalContact]| {
+            contacts
+                .iter()
+                .any(|pc| pc.moving == edge && pc.kind == ContactKind::FaceEdge)
+        };
+        // Upright: both readings put the edge in the wall.
+        let upright = placed(0.0);
+        assert!(on_wall(&scene.state(&upright, CONTACT_REL).contacts));
+        assert!(on_wall(&scene.state_over_overlap(&upright, CONTACT_REL)));
+        // Leaning by tolerance/90 per unit: the head, 100 up, is beyond the tolerance.
+        let leaning = placed(tol / 90.0);
+        let ends = scene.state(&leaning, CONTACT_REL).contacts;
+        assert!(!on_wall(&ends), "{:?}", kinds(&ends));
+        assert!(on_wall(&scene.state_over_overlap(&leaning, CONTACT_REL)));
+        // Ten times more, the stretch over the wall leaves the plane: no reading has it.
+        let steeper = placed(tol / 9.0);
+        assert!(!on_wall(&scene.state_over_overlap(&steeper, CONTACT_REL)));
     }
 }

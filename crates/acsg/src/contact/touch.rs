@@ -17,6 +17,20 @@ use crate::geometry::{
     PlanarRegion, Segment, clip_convex, point_region, point_segment, region_region, segment_region, segment_segment,
 };
 use crate::model::{ElementId, FaceId, Part};
+use crate::tolerance::FLUSH_TILT;
+
+/// How an edge or face lying on a face is read where it passes beyond the face's rim
+/// at a tiny angle (docs/concepts.md#tolerances).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Reading {
+    /// On the face when within the tolerance of its plane from end to end (every
+    /// corner): the contact module's reading, which the prover's rules follow.
+    Ends,
+    /// On the face when within the tolerance over their overlap only, whatever lies
+    /// beyond the face's rim does, up to [`FLUSH_TILT`]: DOMAIN's reading. A witness is
+    /// robust only where both readings agree.
+    Overlap,
+}
 
 /// The set I(a, b) where two elements touch.
 #[derive(Clone, Debug, PartialEq)]
@@ -153,11 +167,20 @@ fn edge_edge(s1: &Segment, s2: &Segment, tol: f64) -> Option<TouchSet> {
 }
 
 /// An edge lying in a face's plane: the parts of it inside the face's relative
-/// interior.
-fn edge_face(s: &Segment, region: &PlanarRegion<'_>, tol: f64) -> Option<TouchSet> {
-    if region.signed_distance(s.a).abs() > tol || region.signed_distance(s.b).abs() > tol {
+/// interior. The edge lies in the plane when both its ends do, or with
+/// [`Reading::Overlap`] when its stretch over the face does (docs/concepts.md#tolerances:
+/// an edge with two points within the tolerance of a face's plane lies in it wherever
+/// it overlaps the face), whatever its ends beyond the face's rim do: an edge lying on
+/// a wall and passing over the wall's top.
+fn edge_face(s: &Segment, region: &PlanarRegion<'_>, tol: f64, reading: Reading) -> Option<TouchSet> {
+    let (height_a, height_b) = (region.signed_distance(s.a), region.signed_distance(s.b));
+    let s = &if height_a.abs() <= tol && height_b.abs() <= tol {
+        *s
+    } else if reading == Reading::Overlap {
+        stretch_over_face(s, region, (height_a, height_b), tol)?
+    } else {
         return None;
-    }
+    };
     let length = s.a.distance(s.b);
     // Break the edge where it meets the face's boundary; classify each piece by its
     // midpoint.
@@ -194,17 +217,83 @@ fn edge_face(s: &Segment, region: &PlanarRegion<'_>, tol: f64) -> Option<TouchSe
     (!inside.is_empty()).then_some(TouchSet::Segments(inside))
 }
 
+/// The stretch of `s` over the face (its projection on the face's closure, from the
+/// first such point to the last), when the stretch lies within `tol` of the face's
+/// plane and is longer than `2 tol`, and the edge tilts off the plane by at most
+/// [`FLUSH_TILT`]; `heights` are the signed distances of `s`'s ends from the plane. The height is linear along the edge, so the stretch's two ends
+/// decide.
+fn stretch_over_face(s: &Segment, region: &PlanarRegion<'_>, heights: (f64, f64), tol: f64) -> Option<Segment> {
+    let (h0, h1) = heights;
+    let rise = h1 - h0;
+    // Where the edge is within `tol` of the plane: too short there, it lies in no plane.
+    let (near_lo, near_hi) = if rise.abs() <= f64::EPSILON * (h0.abs() + h1.abs()) {
+        return None; // parallel to the plane, and farther than `tol` from it
+    } else {
+        let (t0, t1) = ((-tol - h0) / rise, (tol - h0) / rise);
+        (t0.min(t1).max(0.0), t0.max(t1).min(1.0))
+    };
+    let length = s.a.distance(s.b);
+    if (near_hi - near_lo) * length <= 2.0 * tol || rise.abs() > FLUSH_TILT * length {
+        return None;
+    }
+    let flat = Segment::new(region.project(s.a), region.project(s.b));
+    let mut cuts = vec![0.0, 1.0];
+    for g in region.boundary_segments() {
+        let (d, t, _) = segment_segment(&flat, &g);
+        if d <= tol {
+            cuts.push(t);
+        }
+        for p in [g.a, g.b] {
+            let (d, t) = point_segment(p, &flat);
+            if d <= tol {
+                cuts.push(t);
+            }
+        }
+    }
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup();
+    let over = |t: f64| {
+        let p = flat.at(t);
+        region.contains_projection(p) || boundary_distance(region, p) <= tol
+    };
+    let mut span: Option<(f64, f64)> = None;
+    for w in cuts.windows(2) {
+        if over(0.5 * (w[0] + w[1])) {
+            span = Some((span.map_or(w[0], |(lo, _)| lo), w[1]));
+        }
+    }
+    let (lo, hi) = span?;
+    let height = |t: f64| h0 + rise * t;
+    (height(lo).abs() <= tol && height(hi).abs() <= tol && (hi - lo) * length > 2.0 * tol)
+        .then(|| Segment::new(s.at(lo), s.at(hi)))
+}
+
 /// Two coplanar faces facing each other: their overlap, as convex pieces (pairs of
-/// triangles clipped against each other), kept where wider than `tol`.
-fn face_face(f: &PlanarRegion<'_>, g: &PlanarRegion<'_>, tol: f64) -> Option<TouchSet> {
+/// triangles clipped against each other), kept where wider than `tol`. Coplanar: one
+/// face's outline within `tol` of the other's plane, or with [`Reading::Overlap`] the
+/// corners of their overlap.
+fn face_face(f: &PlanarRegion<'_>, g: &PlanarRegion<'_>, tol: f64, reading: Reading) -> Option<TouchSet> {
     if f.normal.dot(g.normal) >= 0.0 {
         return None;
     }
     let g_in_f = g.loops[0].iter().all(|&p| f.signed_distance(p).abs() <= tol);
     let f_in_g = f.loops[0].iter().all(|&p| g.signed_distance(p).abs() <= tol);
-    if !(g_in_f || f_in_g) {
+    // Wholly off the other's plane, on one side: no touch. Otherwise the faces may still
+    // lie on each other where they overlap, with parts beyond the other's outline off
+    // its plane (a face flat on a wall and passing over the wall's rim): the overlap's
+    // corners decide, as an edge's stretch over a face does.
+    let one_side = |loop_: &[DVec3], plane: &PlanarRegion<'_>| {
+        loop_.iter().all(|&p| plane.signed_distance(p) > tol) || loop_.iter().all(|&p| plane.signed_distance(p) < -tol)
+    };
+    if one_side(&g.loops[0], f) || one_side(&f.loops[0], g) {
         return None;
     }
+    let checked = !(g_in_f || f_in_g);
+    if checked && (reading == Reading::Ends || f.normal.cross(g.normal).length() > FLUSH_TILT) {
+        return None;
+    }
+    // The distance along f's normal from f's plane to g's, at a point of f's plane.
+    let gap = |p: DVec3| g.signed_distance(p) / g.normal.dot(f.normal);
     let normal = f.normal;
     let mut pieces = Vec::new();
     for tf in f.triangles {
@@ -227,6 +316,9 @@ fn face_face(f: &PlanarRegion<'_>, g: &PlanarRegion<'_>, tol: f64) -> Option<Tou
                 poly.pop();
             }
             if poly.len() >= 3 && inradius_bound(&poly, normal) > tol {
+                if checked && poly.iter().any(|&p| gap(p).abs() > tol) {
+                    return None;
+                }
                 pieces.push(poly);
             }
         }
@@ -253,6 +345,7 @@ pub(crate) fn touch(
     moving: &PlacedPart<'_>,
     b: ElementId,
     tol: f64,
+    reading: Reading,
 ) -> Option<TouchSet> {
     use Shape::{Point, Region, Segment};
     match (fixed.shape(a), moving.shape(b)) {
@@ -260,8 +353,8 @@ pub(crate) fn touch(
         (Point(p), Segment(s)) | (Segment(s), Point(p)) => point_in_segment(&s, p, tol).then_some(TouchSet::Point(p)),
         (Point(p), Region(r)) | (Region(r), Point(p)) => point_in_face(&r, p, tol).then_some(TouchSet::Point(p)),
         (Segment(s), Segment(t)) => edge_edge(&s, &t, tol),
-        (Segment(s), Region(r)) | (Region(r), Segment(s)) => edge_face(&s, &r, tol),
-        (Region(f), Region(g)) => face_face(&f, &g, tol),
+        (Segment(s), Region(r)) | (Region(r), Segment(s)) => edge_face(&s, &r, tol, reading),
+        (Region(f), Region(g)) => face_face(&f, &g, tol, reading),
     }
 }
 

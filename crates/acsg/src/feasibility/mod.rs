@@ -503,13 +503,15 @@ impl<'a> Problem<'a> {
             })
     }
 
-    /// No penetration, and every pair that does not touch at least the separation
-    /// tolerance apart.
+    /// No penetration, every pair that does not touch at least the separation
+    /// tolerance apart, and the same state at the loose tolerance and read over the
+    /// overlap (docs/concepts.md#tolerances).
     fn is_clean(&self, report: &ContactReport, pose: &Pose) -> bool {
         report.penetration == 0.0
             && report.min_gap.is_none_or(|g| g >= self.separation())
             && !self.edge_on_two_points(&report.contacts)
             && self.scene.state(&self.placement(pose), LOOSE_CONTACT_REL).contacts == report.contacts
+            && self.scene.state_over_overlap(&self.placement(pose), CONTACT_REL) == report.contacts
     }
 
     /// Whether two point contacts of a state put two points of one edge on one face's
