@@ -472,21 +472,8 @@ mod tests {
     use glam::{DMat3, DVec3};
 
     use super::*;
+    use crate::testing::edge_between;
     use crate::tolerance::CONTACT_REL;
-
-    /// The element of `part` whose corners are `points` (in any order).
-    fn element_at(part: &Part, points: &[DVec3]) -> ElementId {
-        let same = |e: ElementId| {
-            let corners = part.outline_points(e);
-            corners.len() == points.len() && points.iter().all(|p| corners.iter().any(|c| c.distance(*p) < 1e-9))
-        };
-        (0..part.faces().len() as u32)
-            .map(|i| ElementId::Face(crate::model::FaceId(i)))
-            .chain((0..part.edges().len() as u32).map(|i| ElementId::Edge(crate::model::EdgeId(i))))
-            .chain((0..part.vertices().len() as u32).map(|i| ElementId::Vertex(crate::model::VertexId(i))))
-            .find(|&e| same(e))
-            .expect("an element there")
-    }
 
     /// The box's vertical edge on the L-block's wall (x = 150), its foot 40 below the
     /// wall's top rim (z = 150) and its head 60 above it, yawed 0.1 rad and leaning off
@@ -504,7 +491,7 @@ mod tests {
             DAffine3::from_mat3_translation(r, DVec3::new(150.0, 30.0, 110.0) - r * foot)
         };
         let kinds = |contacts: &[PrincipalContact]| contacts.iter().map(|pc| pc.kind).collect::<Vec<_>>();
-        let edge = element_at(&box_part, &[foot, head]);
+        let edge = edge_between(&box_part, foot, head);
         let on_wall = |contacts: &[PrincipalContact]| {
             contacts
                 .iter()

@@ -184,21 +184,7 @@ fn edge_face(s: &Segment, region: &PlanarRegion<'_>, tol: f64, reading: Reading)
     let length = s.a.distance(s.b);
     // Break the edge where it meets the face's boundary; classify each piece by its
     // midpoint.
-    let mut cuts = vec![0.0, 1.0];
-    for g in region.boundary_segments() {
-        let (d, t, _) = segment_segment(s, &g);
-        if d <= tol {
-            cuts.push(t);
-        }
-        for p in [g.a, g.b] {
-            let (d, t) = point_segment(p, s);
-            if d <= tol {
-                cuts.push(t);
-            }
-        }
-    }
-    cuts.sort_by(f64::total_cmp);
-    cuts.dedup();
+    let cuts = boundary_cuts(s, region, tol);
     let mut inside: Vec<Segment> = Vec::new();
     for w in cuts.windows(2) {
         let (t0, t1) = (w[0], w[1]);
@@ -217,34 +203,17 @@ fn edge_face(s: &Segment, region: &PlanarRegion<'_>, tol: f64, reading: Reading)
     (!inside.is_empty()).then_some(TouchSet::Segments(inside))
 }
 
-/// The stretch of `s` over the face (its projection on the face's closure, from the
-/// first such point to the last), when the stretch lies within `tol` of the face's
-/// plane and is longer than `2 tol`, and the edge tilts off the plane by at most
-/// [`FLUSH_TILT`]; `heights` are the signed distances of `s`'s ends from the plane. The height is linear along the edge, so the stretch's two ends
-/// decide.
-fn stretch_over_face(s: &Segment, region: &PlanarRegion<'_>, heights: (f64, f64), tol: f64) -> Option<Segment> {
-    let (h0, h1) = heights;
-    let rise = h1 - h0;
-    // Where the edge is within `tol` of the plane: too short there, it lies in no plane.
-    let (near_lo, near_hi) = if rise.abs() <= f64::EPSILON * (h0.abs() + h1.abs()) {
-        return None; // parallel to the plane, and farther than `tol` from it
-    } else {
-        let (t0, t1) = ((-tol - h0) / rise, (tol - h0) / rise);
-        (t0.min(t1).max(0.0), t0.max(t1).min(1.0))
-    };
-    let length = s.a.distance(s.b);
-    if (near_hi - near_lo) * length <= 2.0 * tol || rise.abs() > FLUSH_TILT * length {
-        return None;
-    }
-    let flat = Segment::new(region.project(s.a), region.project(s.b));
+/// Where a segment meets a face's boundary (within `tol`), as parameters along it,
+/// with its ends, sorted: between two cuts a piece lies wholly inside or outside.
+fn boundary_cuts(s: &Segment, region: &PlanarRegion<'_>, tol: f64) -> Vec<f64> {
     let mut cuts = vec![0.0, 1.0];
     for g in region.boundary_segments() {
-        let (d, t, _) = segment_segment(&flat, &g);
+        let (d, t, _) = segment_segment(s, &g);
         if d <= tol {
             cuts.push(t);
         }
         for p in [g.a, g.b] {
-            let (d, t) = point_segment(p, &flat);
+            let (d, t) = point_segment(p, s);
             if d <= tol {
                 cuts.push(t);
             }
@@ -252,6 +221,29 @@ fn stretch_over_face(s: &Segment, region: &PlanarRegion<'_>, heights: (f64, f64)
     }
     cuts.sort_by(f64::total_cmp);
     cuts.dedup();
+    cuts
+}
+
+/// The stretch of `s` over the face (its projection on the face's closure, from the
+/// first such point to the last), when the stretch lies within `tol` of the face's
+/// plane and is longer than `2 tol`, and the edge tilts off the plane by at most
+/// [`FLUSH_TILT`]; `heights` are the signed distances of `s`'s ends from the plane.
+/// The height is linear along the edge, so the stretch's two ends decide.
+fn stretch_over_face(s: &Segment, region: &PlanarRegion<'_>, heights: (f64, f64), tol: f64) -> Option<Segment> {
+    let (h0, h1) = heights;
+    let rise = h1 - h0;
+    let length = s.a.distance(s.b);
+    // Parallel to the plane (and farther than `tol`), or steeper than a flush reading.
+    if rise.abs() <= f64::EPSILON * (h0.abs() + h1.abs()) || rise.abs() > FLUSH_TILT * length {
+        return None;
+    }
+    // Where the edge is within `tol` of the plane: too short there, it lies in no plane.
+    let (t0, t1) = ((-tol - h0) / rise, (tol - h0) / rise);
+    if (t0.max(t1).min(1.0) - t0.min(t1).max(0.0)) * length <= 2.0 * tol {
+        return None;
+    }
+    let flat = Segment::new(region.project(s.a), region.project(s.b));
+    let cuts = boundary_cuts(&flat, region, tol);
     let over = |t: f64| {
         let p = flat.at(t);
         region.contains_projection(p) || boundary_distance(region, p) <= tol
@@ -278,18 +270,21 @@ fn face_face(f: &PlanarRegion<'_>, g: &PlanarRegion<'_>, tol: f64, reading: Read
     }
     let g_in_f = g.loops[0].iter().all(|&p| f.signed_distance(p).abs() <= tol);
     let f_in_g = f.loops[0].iter().all(|&p| g.signed_distance(p).abs() <= tol);
-    // Wholly off the other's plane, on one side: no touch. Otherwise the faces may still
-    // lie on each other where they overlap, with parts beyond the other's outline off
-    // its plane (a face flat on a wall and passing over the wall's rim): the overlap's
-    // corners decide, as an edge's stretch over a face does.
+    // Neither outline within the tolerance of the other's plane: read over the overlap,
+    // the faces may still lie on each other where they overlap, with parts beyond the
+    // other's outline off its plane (a face flat on a wall and passing over the wall's
+    // rim), when nearly flush and neither wholly on one side of the other: the
+    // overlap's corners decide, as an edge's stretch over a face does.
+    let checked = !(g_in_f || f_in_g);
     let one_side = |loop_: &[DVec3], plane: &PlanarRegion<'_>| {
         loop_.iter().all(|&p| plane.signed_distance(p) > tol) || loop_.iter().all(|&p| plane.signed_distance(p) < -tol)
     };
-    if one_side(&g.loops[0], f) || one_side(&f.loops[0], g) {
-        return None;
-    }
-    let checked = !(g_in_f || f_in_g);
-    if checked && (reading == Reading::Ends || f.normal.cross(g.normal).length() > FLUSH_TILT) {
+    if checked
+        && (reading == Reading::Ends
+            || f.normal.cross(g.normal).length() > FLUSH_TILT
+            || one_side(&g.loops[0], f)
+            || one_side(&f.loops[0], g))
+    {
         return None;
     }
     // The distance along f's normal from f's plane to g's, at a point of f's plane.

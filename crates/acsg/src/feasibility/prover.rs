@@ -935,6 +935,7 @@ const FAR: f64 = 1e15;
 mod tests {
     use super::*;
     use crate::pose::Pose;
+    use crate::testing::edge_between;
 
     fn fixture(name: &str) -> Part {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -1005,16 +1006,6 @@ mod tests {
         let side = DVec3::Z.cross(along).normalize();
         let (a, b) = ((side + DVec3::Z) / 2f64.sqrt(), (DVec3::Z - side) / 2f64.sqrt());
         prism(o, [along, a, b])
-    }
-
-    /// The edge of `part` between the points `p` and `q`.
-    fn edge_between(part: &Part, p: DVec3, q: DVec3) -> ElementId {
-        let at = |v: VertexId, x: DVec3| part.vertex(v).position.distance(x) < 1e-9;
-        let found = part.edges().iter().position(|e| {
-            let [u, v] = e.vertices;
-            (at(u, p) && at(v, q)) || (at(u, q) && at(v, p))
-        });
-        ElementId::Edge(EdgeId(found.expect("no such edge") as u32))
     }
 
     #[test]
