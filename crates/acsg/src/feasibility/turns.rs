@@ -492,34 +492,35 @@ impl Problem<'_> {
                 // concave edge it must not lie flat in either plane either: it would
                 // run over that face (behind the other is inside) and read as lying in
                 // it.
+                // Per edge leaving the vertex, its value against each face's normal
+                // (`n · R d`, A's vector first), and how flat it may not lie.
                 let faces_of = |part: &Part, x: EdgeId| part.edge(x).faces.map(|f| part.face(f).normal);
-                match (a, b) {
+                let (convex, leaving_pairs): (bool, Vec<([(DVec3, DVec3); 2], f64)>) = match (a, b) {
                     (ElementId::Edge(e), ElementId::Vertex(_)) => {
                         let [n0, n1] = faces_of(self.fixed, e).map(to_g);
-                        for (d, flat) in leaving(self.moving, b) {
-                            let [t0, t1] = [n0, n1].map(|n| turn(n, d, -LEVER_SLACK, f64::INFINITY));
-                            if self.fixed.edge(e).convex {
-                                out.either.push([t0, t1]);
-                            } else {
-                                out.turns.extend([t0, t1]);
-                                out.avoid.extend([n0, n1].map(|n| turn(n, d, -flat, flat)));
-                            }
-                        }
+                        let pairs = leaving(self.moving, b)
+                            .into_iter()
+                            .map(|(d, flat)| ([(n0, d), (n1, d)], flat));
+                        (self.fixed.edge(e).convex, pairs.collect())
                     }
                     (ElementId::Vertex(_), ElementId::Edge(x)) => {
                         let [m0, m1] = faces_of(self.moving, x);
-                        for (d, flat) in leaving(self.fixed, a) {
+                        let pairs = leaving(self.fixed, a).into_iter().map(|(d, flat)| {
                             let d = to_g(d);
-                            let [t0, t1] = [m0, m1].map(|m| turn(d, m, -LEVER_SLACK, f64::INFINITY));
-                            if self.moving.edge(x).convex {
-                                out.either.push([t0, t1]);
-                            } else {
-                                out.turns.extend([t0, t1]);
-                                out.avoid.extend([m0, m1].map(|m| turn(d, m, -flat, flat)));
-                            }
-                        }
+                            ([(d, m0), (d, m1)], flat)
+                        });
+                        (self.moving.edge(x).convex, pairs.collect())
                     }
-                    _ => {}
+                    _ => (true, Vec::new()),
+                };
+                for (pair, flat) in leaving_pairs {
+                    let [t0, t1] = pair.map(|(n, d)| turn(n, d, -LEVER_SLACK, f64::INFINITY));
+                    if convex {
+                        out.either.push([t0, t1]);
+                    } else {
+                        out.turns.extend([t0, t1]);
+                        out.avoid.extend(pair.map(|(n, d)| turn(n, d, -flat, flat)));
+                    }
                 }
                 // A vertex in an edge or on a vertex: an edge of one part leaving the
                 // contact along an edge of the other lies along it (e-e-t), unless the
