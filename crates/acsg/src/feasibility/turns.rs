@@ -21,6 +21,10 @@ use crate::model::{EdgeId, ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, MIN_TILT, ROTATION_PROBE, SEPARATION_REL, scaled};
 
+/// An edge leaving a vertex held in an edge: its `(n, d)` against each of the edge's two
+/// faces (values `n · (R d)`), and how flat it may not lie.
+type LeavingPair = ([(DVec3, DVec3); 2], f64);
+
 /// `n · (R d)` must meet `[lo, hi]`.
 #[derive(Clone, Copy, Debug)]
 struct Turn {
@@ -495,7 +499,7 @@ impl Problem<'_> {
                 // Per edge leaving the vertex, its value against each face's normal
                 // (`n · R d`, A's vector first), and how flat it may not lie.
                 let faces_of = |part: &Part, x: EdgeId| part.edge(x).faces.map(|f| part.face(f).normal);
-                let (convex, leaving_pairs): (bool, Vec<([(DVec3, DVec3); 2], f64)>) = match (a, b) {
+                let (convex, leaving_pairs): (bool, Vec<LeavingPair>) = match (a, b) {
                     (ElementId::Edge(e), ElementId::Vertex(_)) => {
                         let [n0, n1] = faces_of(self.fixed, e).map(to_g);
                         let pairs = leaving(self.moving, b)
