@@ -1,8 +1,7 @@
 //! The rotation-only conditions of a target: at a contact involving a face, the other
 //! part's edges leaving the contact point out of the face, its edges in the contact lie
-//! along the face, a face in contact faces the other way; at a vertex in an edge, the
-//! vertex's edges out of the edge's part; two crossing edges have a plane through both
-//! that separates their wedges.
+//! along the face, a face in contact faces the other way; two crossing edges have a
+//! plane through both that separates their wedges.
 //!
 //! Each condition is a value `n · (R d)` (n in G's frame, d in the moving part's) that
 //! must meet a range. Over a box of rotations the value is enclosed by interval
@@ -17,13 +16,9 @@ use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use super::prover::implied;
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::Aabb;
-use crate::model::{EdgeId, ElementId, FaceId, Part};
+use crate::model::{ElementId, FaceId, Part};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, MIN_TILT, ROTATION_PROBE, SEPARATION_REL, scaled};
-
-/// An edge leaving a vertex held in an edge: its `(n, d)` against each of the edge's two
-/// faces (values `n · (R d)`), and how flat it may not lie.
-type LeavingPair = ([(DVec3, DVec3); 2], f64);
 
 /// `n · (R d)` must meet `[lo, hi]`.
 #[derive(Clone, Copy, Debug)]
@@ -86,8 +81,6 @@ pub(crate) struct Turns {
     turns: Vec<Turn>,
     /// `n · (R d)` must leave the open interval `(lo, hi)`.
     avoid: Vec<Turn>,
-    /// At least one of the two must meet its range.
-    either: Vec<[Turn; 2]>,
     wedges: Vec<Wedge>,
     askew: Vec<Askew>,
     flush: Vec<Flush>,
@@ -156,11 +149,6 @@ impl Turns {
         }) && self.avoid.iter().all(|t| {
             let v = value(&r, t.n, t.d);
             v.lo <= t.lo || v.hi >= t.hi
-        }) && self.either.iter().all(|pair| {
-            pair.iter().any(|t| {
-                let v = value(&r, t.n, t.d);
-                v.hi >= t.lo && v.lo <= t.hi
-            })
         }) && self.wedges.iter().all(|w| w.sides(&r).0)
             && self.askew.iter().all(|a| {
                 a.components.iter().any(|&(n, d)| {
@@ -181,7 +169,6 @@ impl Turns {
     fn is_empty(&self) -> bool {
         self.turns.is_empty()
             && self.avoid.is_empty()
-            && self.either.is_empty()
             && self.wedges.is_empty()
             && self.askew.is_empty()
             && self.flush.is_empty()
@@ -244,15 +231,6 @@ impl Turns {
             let v = value(&r, t.n, t.d);
             if v.lo < t.hi && v.hi > t.lo && (v.lo <= t.lo || v.hi >= t.hi) {
                 terms.push((t.n, t.d));
-            }
-        }
-        for pair in &self.either {
-            let meets = |t: &Turn| {
-                let v = value(&r, t.n, t.d);
-                (v.hi >= t.lo && v.lo <= t.hi, v.lo >= t.lo && v.hi <= t.hi)
-            };
-            if pair.iter().any(|t| meets(t).0) && !pair.iter().any(|t| meets(t).1) {
-                terms.extend(pair.iter().map(|t| (t.n, t.d)));
             }
         }
         for w in &self.wedges {
@@ -487,45 +465,6 @@ impl Problem<'_> {
                 });
             }
             (a, b) => {
-                // A vertex in an edge: near the contact point the edge's part is the
-                // union (concave edge) or the intersection (convex edge) of the
-                // half-spaces behind its two faces (a witness keeps every other element
-                // of it the separation away). So each edge leaving the vertex must not
-                // turn behind a concave edge's faces' planes, nor behind both of a
-                // convex edge's, to the same lever slack as a vertex on a face. At a
-                // concave edge it must not lie flat in either plane either: it would
-                // run over that face (behind the other is inside) and read as lying in
-                // it.
-                // Per edge leaving the vertex, its value against each face's normal
-                // (`n · R d`, A's vector first), and how flat it may not lie.
-                let faces_of = |part: &Part, x: EdgeId| part.edge(x).faces.map(|f| part.face(f).normal);
-                let (convex, leaving_pairs): (bool, Vec<LeavingPair>) = match (a, b) {
-                    (ElementId::Edge(e), ElementId::Vertex(_)) => {
-                        let [n0, n1] = faces_of(self.fixed, e).map(to_g);
-                        let pairs = leaving(self.moving, b)
-                            .into_iter()
-                            .map(|(d, flat)| ([(n0, d), (n1, d)], flat));
-                        (self.fixed.edge(e).convex, pairs.collect())
-                    }
-                    (ElementId::Vertex(_), ElementId::Edge(x)) => {
-                        let [m0, m1] = faces_of(self.moving, x);
-                        let pairs = leaving(self.fixed, a).into_iter().map(|(d, flat)| {
-                            let d = to_g(d);
-                            ([(d, m0), (d, m1)], flat)
-                        });
-                        (self.moving.edge(x).convex, pairs.collect())
-                    }
-                    _ => (true, Vec::new()),
-                };
-                for (pair, flat) in leaving_pairs {
-                    let [t0, t1] = pair.map(|(n, d)| turn(n, d, -LEVER_SLACK, f64::INFINITY));
-                    if convex {
-                        out.either.push([t0, t1]);
-                    } else {
-                        out.turns.extend([t0, t1]);
-                        out.avoid.extend(pair.map(|(n, d)| turn(n, d, -flat, flat)));
-                    }
-                }
                 // A vertex in an edge or on a vertex: an edge of one part leaving the
                 // contact along an edge of the other lies along it (e-e-t), unless the
                 // two leave the shared vertex in opposite directions.
@@ -646,86 +585,6 @@ mod tests {
             w.normal = None;
         }
         assert!(loose.may_hold(&near));
-    }
-
-    #[test]
-    fn a_corner_in_a_concave_edge_keeps_its_edges_out_of_both_faces() {
-        // The box's corner (150, 10, 50) in the L-block's inner corner (the concave
-        // edge x = 150, z = 50): near it the block is everything below the step's top
-        // or behind the wall, so each of the corner's three edges (−x, +y, +z) must
-        // stay on or above the top and on or before the wall. Three orthogonal
-        // directions fit that only with edges in the faces' planes or dipping into a
-        // face within the lever slack. Turned 0.1 rad about every axis (R = Rz Ry Rx),
-        // the +z edge goes to (0.109, −0.089, 0.990): it leans 0.109 into the wall,
-        // far beyond the lever slack (8e-3).
-        let (a, b) = crate::examples::l_block_and_box();
-        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
-        let concave = (0..a.edges().len())
-            .find(|&k| !a.edges()[k].convex)
-            .expect("the L-block has one concave edge");
-        let corner = (0..b.vertices().len())
-            .find(|&k| b.vertices()[k].position == DVec3::new(150.0, 10.0, 50.0))
-            .expect("the box has a corner at (150, 10, 50)");
-        let target = [PrincipalContact {
-            fixed: ElementId::Edge(crate::model::EdgeId(concave as u32)),
-            moving: ElementId::Vertex(crate::model::VertexId(corner as u32)),
-            kind: K::EdgeVertex,
-        }];
-        let turns = problem.turns(&target);
-        let turned = Bounds::try_new([-5.0, -5.0, 0.0, 0.09, 0.09, 0.09], [5.0, 5.0, 240.0, 0.11, 0.11, 0.11]).unwrap();
-        assert!(!turns.may_hold(&turned));
-        // Turned about x alone, the −x and +z edges lie in the step's and the wall's
-        // planes: they would read as lying on those faces, so that is no e-v either.
-        let about_x = Bounds::try_new([-5.0, -5.0, 0.0, 0.29, 0.0, 0.0], [5.0, 5.0, 240.0, 0.31, 0.0, 0.0]).unwrap();
-        assert!(!turns.may_hold(&about_x));
-        // Tilted by (0.004, 0.002, 0.1) the +z edge leans 2.4e-3 into the wall, within
-        // the lever slack, and no edge lies in either plane: the rules allow it.
-        let c = [0.004, 0.002, 0.1];
-        let near = Bounds::try_new(
-            [-5.0, -5.0, 0.0, c[0] - 1e-5, c[1] - 1e-5, c[2] - 1e-5],
-            [5.0, 5.0, 240.0, c[0] + 1e-5, c[1] + 1e-5, c[2] + 1e-5],
-        )
-        .unwrap();
-        assert!(turns.may_hold(&near));
-    }
-
-    #[test]
-    fn a_corner_in_a_convex_edge_keeps_each_of_its_edges_before_a_face() {
-        // The slab's corner (100, 100, 0) in the cube's bottom front edge (along x,
-        // faces z = 0 and y = 0): near it the cube is what lies above its bottom and
-        // behind its front, so no edge of the corner may point into both. With
-        // R = Rz(0.2) Rx(−0.2), the corner's −x edge is, in the cube's frame,
-        // Rx(0.2) Rz(−0.2) (−1, 0, 0) = (−0.980, 0.195, 0.040): above the bottom and
-        // behind the front, beyond the lever slack (8e-3) on both. With Rx(+0.2) it is
-        // (−0.980, 0.195, −0.040), below the bottom's plane: outside the cube, and the
-        // corner's other edges (−y, −z) point out through the front.
-        let (slab, cube) = crate::examples::cube_and_slab();
-        let wide = Bounds::try_new([-1.0, -1.0, 0.0, -0.3, -0.3, -0.3], [1.0, 1.0, 30.0, 0.3, 0.3, 0.3]).unwrap();
-        let problem = Problem::new(&slab, &cube, wide, glam::DAffine3::IDENTITY);
-        let corner = (0..slab.vertices().len())
-            .find(|&k| slab.vertices()[k].position == DVec3::new(100.0, 100.0, 0.0))
-            .expect("the slab has a corner at (100, 100, 0)");
-        let edge = (0..cube.edges().len())
-            .find(|&k| {
-                let [p, q] = cube.edge_points(EdgeId(k as u32));
-                p.y == 0.0 && q.y == 0.0 && p.z == 0.0 && q.z == 0.0
-            })
-            .expect("the cube has a bottom front edge");
-        let target = [PrincipalContact {
-            fixed: ElementId::Vertex(crate::model::VertexId(corner as u32)),
-            moving: ElementId::Edge(EdgeId(edge as u32)),
-            kind: K::VertexEdge,
-        }];
-        let turns = problem.turns(&target);
-        let around = |rx: f64, rz: f64| {
-            Bounds::try_new(
-                [0.0, 0.0, 0.0, rx - 1e-4, -1e-4, rz - 1e-4],
-                [0.0, 0.0, 0.0, rx + 1e-4, 1e-4, rz + 1e-4],
-            )
-            .unwrap()
-        };
-        assert!(!turns.may_hold(&around(-0.2, 0.2)));
-        assert!(turns.may_hold(&around(0.2, 0.2)));
     }
 
     #[test]
