@@ -1048,9 +1048,7 @@ impl PairRun {
     fn recall_held_half_turned(&self) {
         let half_turn = DMat3::from_rotation_z(std::f64::consts::PI);
         let flip = |p: DVec3| DVec3::new(-p.x, -p.y, p.z);
-        let mut soup =
-            acsg::io::off::read(std::fs::File::open(fixtures().join(self.files.1)).expect("the moving part opens"))
-                .expect("the moving part reads");
+        let mut soup = acsg::io::read_path(&fixtures().join(self.files.1)).expect("the moving part reads");
         for p in &mut soup.positions {
             *p = flip(*p);
         }
@@ -1346,7 +1344,9 @@ fn dump_oracle_states() {
 /// Recall on any pair, on demand: `ACSG_RECALL_PAIR="FIXED;MOVING;BOUNDS"` with the two
 /// parts' paths (relative to `fixtures/` or absolute) and bounds as the CLI takes them
 /// (`x=-2:2,y=-2:2,z=0:45,rx=-2:2,ry=-2:2,rz=-2:2`, angles in degrees, omitted
-/// components fixed at 0). Runs the cross-check, the exclusions' soundness and recall.
+/// components fixed at 0). Runs the cross-check, the exclusions' soundness and recall;
+/// with `ACSG_RECALL_HALF_TURN=1` also recall with the pair held through an assembled
+/// pose (`PairRun::recall_held_half_turned`: the x, y and rx, ry bounds are mirrored).
 #[test]
 #[ignore = "needs ACSG_RECALL_PAIR; run on demand"]
 fn recall_on_demand() {
@@ -1362,5 +1362,9 @@ fn recall_on_demand() {
         "ACSG_RECALL_PAIR wants FIXED;MOVING;BOUNDS, got {spec:?}"
     );
     let leak = |s: &str| -> &'static str { Box::leak(s.to_owned().into_boxed_str()) };
-    PairRun::load(leak(&spec), leak(parts[0]), leak(parts[1]), parts[2]).check_all();
+    let run = PairRun::load(leak(&spec), leak(parts[0]), leak(parts[1]), parts[2]);
+    run.check_all();
+    if std::env::var_os("ACSG_RECALL_HALF_TURN").is_some_and(|v| v == "1") {
+        run.recall_held_half_turned();
+    }
 }
