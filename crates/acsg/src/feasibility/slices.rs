@@ -43,8 +43,9 @@ pub struct Density {
     pub on_faces: usize,
     /// See `on_faces`.
     pub on_edges: usize,
-    /// Pseudo-random rotations in the bounds shrunk about their centre by each of
-    /// [`SHRUNK`]: a part in a tight hole turns only a little before it jams.
+    /// Pseudo-random rotations in the bounds shrunk about their centre by each of the
+    /// factors 0.1, 0.01 and 0.001: a part in a tight hole turns only a little before it
+    /// jams.
     pub shrunk: usize,
     /// Random base rotations, besides the centre and the identity, from which faces
     /// are turned flat on faces and edges parallel to faces.

@@ -1,12 +1,12 @@
 //! How the candidate states are searched: a strategy proposes candidates, decides each
-//! with the feasibility module's primitives, and records the outcomes in the
-//! [`Store`]; the store keeps the graph, the canonical index and the completeness
-//! record, whatever the strategy. Two strategies exist:
-//! - [`Strategy::Full`] (the default, [`full`]): every single contact, growth by every
-//!   single-contact state under every outcome of the mapping rules, each candidate
+//! with the feasibility module's primitives, and records the outcomes in the store
+//! (`graph::store::Store`); the store keeps the graph, the canonical index and the
+//! completeness record, whatever the strategy. Two strategies exist:
+//! - [`Strategy::Full`] (the default, module `full`): every single contact, growth by
+//!   every single-contact state under every outcome of the mapping rules, each candidate
 //!   decided (witnessed, proved infeasible, or undecided) with warm starts, sound
 //!   exclusions and sliding, then descents;
-//! - [`Strategy::Paper`] ([`paper`]): the paper's algorithm step by step, as a
+//! - [`Strategy::Paper`] (module `paper`): the paper's algorithm step by step, as a
 //!   baseline to measure against on the same input.
 
 mod full;
