@@ -1072,16 +1072,31 @@ impl PairRun {
                     ElementId::Edge(EdgeId(i.expect("every edge has its turned twin") as u32))
                 }
                 ElementId::Face(id) => {
-                    let face = self.moving.face(id);
-                    let normal = half_turn * face.normal;
-                    let i = turned
-                        .faces()
-                        .iter()
-                        .position(|g| g.normal.distance(normal) < 1e-12 && (g.offset - face.offset).abs() < 1e-9);
+                    // By its corners: separate faces may share a plane (the ends of a
+                    // plus's arms).
+                    let corners = |part: &Part, f: FaceId, map: &dyn Fn(VertexId) -> VertexId| {
+                        let mut vs: Vec<VertexId> =
+                            part.closure_vertices(ElementId::Face(f)).into_iter().map(map).collect();
+                        vs.sort();
+                        vs
+                    };
+                    let wanted = corners(&self.moving, id, &vertex);
+                    let normal = half_turn * self.moving.face(id).normal;
+                    let i = (0..turned.faces().len()).position(|g| {
+                        let g = FaceId(g as u32);
+                        turned.face(g).normal.distance(normal) < 1e-12 && corners(&turned, g, &|v| v) == wanted
+                    });
                     ElementId::Face(FaceId(i.expect("every face has its turned twin") as u32))
                 }
             }
         };
+        let twins: BTreeSet<ElementId> = self.moving.elements().into_iter().map(element).collect();
+        assert_eq!(
+            twins.len(),
+            self.moving.elements().len(),
+            "{}: two elements matched one turned element",
+            self.name
+        );
         let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
         let bounds = Bounds::try_new(
             [-hi[0], -hi[1], lo[2], -hi[3], -hi[4], lo[5]],
