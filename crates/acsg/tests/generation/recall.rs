@@ -1136,7 +1136,11 @@ impl PairRun {
         );
         // The check has teeth: the oracle found states, and the loader numbers the
         // turned part's elements otherwise (so a mix-up of the two would show).
-        assert!(self.report.states.len() > 10);
+        assert!(
+            !self.report.states.is_empty(),
+            "{}: the oracle found no state",
+            self.name
+        );
         let renumbered = (0..self.moving.vertices().len()).any(|i| vertex(VertexId(i as u32)).0 != i as u32);
         assert!(renumbered, "{}: the turned part kept its numbering", self.name);
     }
