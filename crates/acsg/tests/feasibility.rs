@@ -449,3 +449,72 @@ fn an_edge_lying_across_a_face_is_lifted_to_cross_only_one_of_its_edges() {
         other => panic!("no witness of {crossing:?}: {other:?}"),
     }
 }
+
+/// The paper's box flush in the L-block's corner (its bottom on the floor, its side
+/// against the wall): a bottom edge on the floor and a vertical edge on the wall hold
+/// together only in a band, a tilt about x and a turn about z whose product the contact
+/// tolerance absorbs (the vertical edge leans off the wall by `sin rx sin rz` times its
+/// length, while each angle alone must part a face from its face). The optimiser's
+/// margins keep it out of that band; from the corner's witness it is found.
+#[test]
+fn two_edges_held_in_the_band_of_two_small_turns_are_found_from_the_flush_corner() {
+    let (block, cube) = acsg::examples::l_block_and_box();
+    let bounds = acsg::examples::paper_bounds();
+    let face_where = |part: &Part, normal: DVec3, on: DVec3| {
+        let i = part
+            .faces()
+            .iter()
+            .position(|f| f.normal.distance(normal) < 1e-12 && (f.normal.dot(on) - f.offset).abs() < 1e-9)
+            .expect("the face");
+        ElementId::Face(FaceId(i as u32))
+    };
+    let edge_where = |part: &Part, a: DVec3, b: DVec3| {
+        (0..part.edges().len() as u32)
+            .map(acsg::model::EdgeId)
+            .find(|&e| {
+                let [p, q] = part.edge_points(e);
+                (p.distance(a) < 1e-9 && q.distance(b) < 1e-9) || (p.distance(b) < 1e-9 && q.distance(a) < 1e-9)
+            })
+            .map(ElementId::Edge)
+            .expect("the edge")
+    };
+    // The floor z = 50 and the wall x = 150 of the block; the box spans (50..150,
+    // 10..90, 50..150).
+    let (at_floor, at_wall) = (DVec3::new(100.0, 50.0, 50.0), DVec3::new(150.0, 50.0, 100.0));
+    let (floor, wall) = (face_where(&block, DVec3::Z, at_floor), face_where(&block, -DVec3::X, at_wall));
+    let (bottom, side) = (face_where(&cube, -DVec3::Z, at_floor), face_where(&cube, DVec3::X, at_wall));
+    let bottom_edge = edge_where(&cube, DVec3::new(50.0, 90.0, 50.0), DVec3::new(150.0, 90.0, 50.0));
+    let upright = edge_where(&cube, DVec3::new(150.0, 10.0, 50.0), DVec3::new(150.0, 10.0, 150.0));
+    let contact = |fixed, moving, kind| PrincipalContact { fixed, moving, kind };
+    let mut corner = vec![
+        contact(floor, bottom, ContactKind::FaceFace),
+        contact(wall, side, ContactKind::FaceFace),
+    ];
+    corner.sort();
+    let mut band = vec![
+        contact(floor, bottom_edge, ContactKind::FaceEdge),
+        contact(wall, upright, ContactKind::FaceEdge),
+    ];
+    band.sort();
+    let scene = ContactScene::new(&block, &cube);
+    let flush = Pose::from_array([0.0; 6]);
+    let report = scene.evaluate(&flush.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.contacts, corner, "the box flush in the corner");
+    let problem = Problem::new(&block, &cube, bounds, DAffine3::IDENTITY);
+    let mut stats = SearchStats::default();
+    let pose = match problem.find_below(&band, &corner, flush, &mut stats) {
+        acsg::feasibility::Search::Found(pose) => pose,
+        other => panic!("no witness of {band:?}: {other:?}"),
+    };
+    assert!(bounds.contains(&pose, 1e-12, 1e-12), "{pose:?} outside the bounds");
+    let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.contacts, band, "at {pose:?}");
+    assert_eq!(report.penetration, 0.0);
+    let gap = report.min_gap.expect("pairs apart");
+    assert!(gap >= SEPARATION_REL * scene.scale(), "a pair only {gap} apart at {pose:?}");
+    // In the band: the upright's lean off the wall within the contact tolerance, though
+    // both angles are turned.
+    let lean = (pose.rx.sin() * pose.rz.sin()).abs() * 100.0;
+    assert!(lean <= CONTACT_REL * scene.scale(), "lean {lean} at {pose:?}");
+    assert!(pose.rx.abs() > 1e-7 && pose.rz.abs() > 1e-7, "{pose:?}");
+}

@@ -814,19 +814,87 @@ impl<'a> Problem<'a> {
         let pose = self.release(target, &extra, witness, &self.bounds);
         match self.verify(&pose) {
             Some(found) if found == target => Search::Found(pose),
-            Some(found) => Search::NotFound {
-                others: vec![(found, pose)],
+            Some(found) => match self.turn_off(target, witness) {
+                Some(turned) => Search::Found(turned),
+                None => Search::NotFound {
+                    others: vec![(found, pose)],
+                },
             },
             // The target holds but not robustly (a sliver narrower than the clearance
             // pushed for): the pairs still close are pushed apart from there.
             None => match self
                 .inspect(&pose)
                 .and_then(|report| self.clear(target, pose, &report, &self.bounds, stats))
+                .or_else(|| self.turn_off(target, witness))
             {
                 Some(cleared) => Search::Found(cleared),
                 None => Search::NotFound { others: Vec::new() },
             },
         }
+    }
+
+    /// A witness of `target` a small turn off a state's witness: each turn about one
+    /// or two axes, both ways, just large enough to part the state's other pairs by a
+    /// few separations, then the translation refitted to the target's contacts. Where
+    /// the target holds only in a band along the state's region (a vertical edge left
+    /// on a wall by two turns whose product the contact tolerance absorbs), the
+    /// optimiser's margins keep it out of the band; these turns land in it.
+    fn turn_off(&self, target: &[PrincipalContact], witness: Pose) -> Option<Pose> {
+        let unit = self.separation() / self.moving_radius.max(self.scale * 1e-3);
+        let axes: [&[usize]; 6] = [&[3], &[4], &[5], &[3, 4], &[3, 5], &[4, 5]];
+        for factor in TURN_OFF_FACTORS {
+            for turn in axes {
+                for signs in 0..1u32 << turn.len() {
+                    let mut x = witness.to_array();
+                    for (i, &k) in turn.iter().enumerate() {
+                        x[k] += if (signs >> i) & 1 == 0 { factor * unit } else { -factor * unit };
+                    }
+                    let pose = self.fit_translation(target, Pose::from_array(x));
+                    if self.verify(&pose).as_deref() == Some(target) {
+                        return Some(pose);
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// The pose with its translation moved, rotation kept, to make the target's
+    /// contacts hold (least squares, a few Gauss–Newton steps: each contact's
+    /// conditions are linear in the translation at a fixed rotation).
+    fn fit_translation(&self, target: &[PrincipalContact], mut pose: Pose) -> Pose {
+        let step = 1e-6 * self.scale;
+        let (mut r, mut shifted) = (Vec::new(), Vec::new());
+        for _ in 0..4 {
+            self.residuals(target, &pose, 0.0, false, &mut r);
+            if r.iter().map(|v| v * v).sum::<f64>().sqrt() <= 0.01 * CONTACT_REL * self.scale {
+                break;
+            }
+            let columns: Vec<Vec<f64>> = (0..3)
+                .map(|k| {
+                    let mut x = pose.to_array();
+                    x[k] += step;
+                    self.residuals(target, &Pose::from_array(x), 0.0, false, &mut shifted);
+                    shifted.iter().zip(&r).map(|(a, b)| (a - b) / step).collect()
+                })
+                .collect();
+            if columns.iter().any(|c| c.len() != r.len()) {
+                break;
+            }
+            let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+            let normal = glam::DMat3::from_cols_array(&std::array::from_fn(|i| {
+                dot(&columns[i / 3], &columns[i % 3]) + if i / 3 == i % 3 { 1e-12 } else { 0.0 }
+            }));
+            let rhs = DVec3::new(-dot(&columns[0], &r), -dot(&columns[1], &r), -dot(&columns[2], &r));
+            let d = normal.inverse() * rhs;
+            if !d.is_finite() {
+                break;
+            }
+            pose.x += d.x;
+            pose.y += d.y;
+            pose.z += d.z;
+        }
+        pose
     }
 
     /// Searches for a witness of a primitive contact (f-v, e-e or v-f, with elements
@@ -850,6 +918,11 @@ impl<'a> Problem<'a> {
             .collect()
     }
 }
+
+/// The turns [`Problem::turn_off`] tries, in separations per unit of the moving
+/// part's radius: enough to part a face from a face by a few separations, small enough
+/// that two such turns move a point by less than the contact tolerance together.
+const TURN_OFF_FACTORS: [f64; 3] = [3.0, 10.0, 30.0];
 
 /// The loosest touching tolerance a checker may use, relative to L: just under the
 /// separation. A witness reads the same state with it as with [`CONTACT_REL`].

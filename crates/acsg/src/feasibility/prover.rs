@@ -1078,6 +1078,13 @@ mod tests {
         // Allowed below the flush height, the box tilts onto v0: not excluded.
         let lower = Bounds::try_new([-1.0, -1.0, -0.05, -r, -r, -r], [1.0, 1.0, 0.05, r, r, r]).unwrap();
         assert_eq!(problem.exclusion(&corner, &lower), None);
+        // The same turned about z by 0.1 to 0.3 rad (where v4 stays over the floor):
+        // heights over the floor do not depend on the yaw, so the narrow tilts alone
+        // let the linearised test apply.
+        let yawed = Bounds::try_new([-1.0, -1.0, 0.0, -r, -r, 0.1], [1.0, 1.0, 0.05, r, r, 0.3]).unwrap();
+        assert!(problem.exclusion(&corner, &yawed).is_some());
+        let yawed_lower = Bounds::try_new([-1.0, -1.0, -0.05, -r, -r, 0.1], [1.0, 1.0, 0.05, r, r, 0.3]).unwrap();
+        assert_eq!(problem.exclusion(&corner, &yawed_lower), None);
     }
 
     /// Soundness: every clean state the optimiser reaches on its own (no pruning in the

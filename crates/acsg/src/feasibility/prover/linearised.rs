@@ -131,9 +131,23 @@ impl Turn {
 
     /// How far `n · R v` is from its linear part at most: ½ Σ h_j h_k sup |n · ∂²R/∂θj∂θk v|
     /// over the box (Taylor's remainder), never more than [`Turn::second`] gives. A
-    /// turn that moves `v` within a plane normal to `n` leaves little of it.
+    /// turn that moves `v` within a plane normal to `n` leaves little of it. The part
+    /// of `n` along z is turned by the tilts only (`Rz` keeps z), so it pays for `rx`
+    /// and `ry` alone: a height over a floor stays linear however wide the yaw.
     fn second_along(&self, n: DVec3, v: DVec3) -> f64 {
-        let h = self.h;
+        let [hx, hy, _] = self.h;
+        let across = DVec3::new(n.x, n.y, 0.0);
+        let along_z = DVec3::new(0.0, 0.0, n.z);
+        let split = self.remainder(across, v, self.h, self.s) + self.remainder(along_z, v, [hx, hy, 0.0], hx + hy);
+        split.min(self.second(v) * n.length())
+    }
+
+    /// [`Turn::second_along`] over angle half-widths `h` summing to `s`, for a `n`
+    /// whose value along `R v` depends on no angle whose half-width is left out.
+    fn remainder(&self, n: DVec3, v: DVec3, h: [f64; 3], s: f64) -> f64 {
+        if n == DVec3::ZERO {
+            return 0.0;
+        }
         let weights = [
             h[0] * h[0],
             h[1] * h[1],
@@ -144,14 +158,14 @@ impl Turn {
         ];
         // Off the centre each second derivative moves by at most `s` (times |n| |v|),
         // and the weights add up to s²; the round-off of the products is covered too.
-        let spread = (self.s + 1e-12) * n.length() * v.length();
+        let spread = (s + 1e-12) * n.length() * v.length();
         let along: f64 = self
             .hessian
             .iter()
             .zip(weights)
             .map(|(m, w)| w * (n.dot(*m * v).abs() + spread))
             .sum();
-        (0.5 * along).min(self.second(v) * n.length())
+        (0.5 * along).min(0.5 * s * s * v.length() * n.length())
     }
 
     /// `n · (R w + t)`.
@@ -183,14 +197,13 @@ impl Turn {
     /// rotation times a unit generator), its remainder by [`Turn::second`].
     fn moving_point_hull(&self, n: DVec3, w: DVec3, lo: &[f64; VARS], hi: &[f64; VARS]) -> Interval {
         let base = n.dot(self.r * w);
-        let size = n.length() * w.length();
-        hull(
-            base,
-            n.to_array(),
-            lo,
-            hi,
-            size * turn_reach(lo, hi) + self.second(w) * n.length(),
-        )
+        let reach = |n: DVec3, turn: f64, s: f64| n.length() * w.length() * (turn + 0.5 * s * s);
+        // As in `second_along`, the part of `n` along z moves with the tilts only.
+        let (across, along_z) = (DVec3::new(n.x, n.y, 0.0), DVec3::new(0.0, 0.0, n.z));
+        let tilts = self.h[0] + self.h[1];
+        let rest = reach(n, turn_reach(lo, hi), self.s)
+            .min(reach(across, turn_reach(lo, hi), self.s) + reach(along_z, tilt_reach(lo, hi), tilts));
+        hull(base, n.to_array(), lo, hi, rest)
     }
 
     /// An interval that holds [`Turn::on_fixed_point`]`(m, a)`'s range over the box, as
@@ -227,7 +240,9 @@ impl Prover<'_> {
     pub(super) fn linearised(&self, links: &super::Links, bounds: &Bounds) -> Option<Bounds> {
         let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
         let turn = Turn::new(&lo, &hi);
-        if turn.s > self.max_turn {
+        // A wide yaw alone does not stop it: heights over planes normal to z stay
+        // linear (see `Turn::second_along`).
+        if turn.h[0] + turn.h[1] > self.max_turn {
             return Some(*bounds);
         }
         // Angles as offsets from the centre.
@@ -251,7 +266,10 @@ impl Prover<'_> {
         linear.straddled(links);
         linear.kept_out(&self.edges_through(&bounds.center()))?;
         propagate(&linear.rows, &mut linear.lo, &mut linear.hi)?;
-        let mut budget = if linear.turn.s > NARROW_TURN { WIDE_CASES } else { CASES };
+        // The yaw's width costs nothing here (see `Turn::second_along`): the tilts'
+        // decide how often the box is proved rather than split.
+        let tilts = linear.turn.h[0] + linear.turn.h[1];
+        let mut budget = if tilts > NARROW_TURN { WIDE_CASES } else { CASES };
         let mut rows = std::mem::take(&mut linear.rows);
         if linear.refute(&mut rows, &mut budget) {
             return None;
@@ -568,6 +586,11 @@ fn turn_reach(lo: &[f64; VARS], hi: &[f64; VARS]) -> f64 {
     (3..VARS).map(|k| lo[k].abs().max(hi[k].abs())).sum()
 }
 
+/// [`turn_reach`] over the tilts `rx` and `ry` only.
+fn tilt_reach(lo: &[f64; VARS], hi: &[f64; VARS]) -> f64 {
+    (3..5).map(|k| lo[k].abs().max(hi[k].abs())).sum()
+}
+
 /// `base + coef · t ± rest` over the translations of the box, widened for the
 /// round-off of computing it otherwise (a hull of an [`Affine`]'s range).
 fn hull(base: f64, coef: [f64; 3], lo: &[f64; VARS], hi: &[f64; VARS], rest: f64) -> Interval {
@@ -583,8 +606,8 @@ fn hull(base: f64, coef: [f64; 3], lo: &[f64; VARS], hi: &[f64; VARS], rest: f64
 
 /// Linear programmes one box may spend on the cases of its either-or conditions.
 const CASES: usize = 24;
-/// Above this sum of half-widths a box gets [`WIDE_CASES`] programmes only: it is
-/// more often split than proved, and there are many more such boxes.
+/// Above this sum of the tilts' half-widths a box gets [`WIDE_CASES`] programmes only:
+/// it is more often split than proved, and there are many more such boxes.
 const NARROW_TURN: f64 = 0.01;
 /// Linear programmes for a box wider than [`NARROW_TURN`].
 const WIDE_CASES: usize = 6;
@@ -645,7 +668,10 @@ mod tests {
         let mut tightest: f64 = 0.0;
         for case in 0..400 {
             let centre: [f64; 3] = std::array::from_fn(|_| 0.6 * numbers.next() - 0.3);
-            let half: [f64; 3] = std::array::from_fn(|k| if case % 4 == k { 0.05 } else { 1e-4 * numbers.next() });
+            // One angle in four cases wide; the yaw, every other time, as wide as a
+            // free turn about the insertion axis.
+            let wide = if case % 8 == 6 { 0.3 } else { 0.05 };
+            let half: [f64; 3] = std::array::from_fn(|k| if case % 4 == k { wide } else { 1e-4 * numbers.next() });
             let mut lo = [-1.0; VARS];
             let mut hi = [1.0; VARS];
             for k in 0..3 {
@@ -683,12 +709,15 @@ mod tests {
             DVec3::new(numbers.next() - 0.5, numbers.next() - 0.5, numbers.next() - 0.5).normalize()
         };
         let mut tightest: f64 = f64::INFINITY;
-        for _ in 0..2000 {
+        for case in 0..2000 {
             let mut lo = [0.0; VARS];
             let mut hi = [0.0; VARS];
             for k in 0..VARS {
                 let (centre, half) = if k < 3 {
                     (200.0 * numbers.next() - 100.0, 10.0 * numbers.next())
+                } else if k == 5 && case % 2 == 1 {
+                    // A wide yaw with narrow tilts.
+                    (0.6 * numbers.next() - 0.3, 0.3 * numbers.next())
                 } else {
                     (0.6 * numbers.next() - 0.3, 0.02 * numbers.next())
                 };
