@@ -644,7 +644,7 @@ impl<'a> Problem<'a> {
             // The target held, with more contacts: push those apart from here. (Parts of
             // contacts are left to the descents: tried after every search, they cost
             // more than they found.)
-            if let Search::Found(released) = self.find_below(target, &state, pose, stats) {
+            if let Some(Search::Found(released)) = self.push_apart(target, &state, pose, stats) {
                 return Some(released);
             }
         }
@@ -795,8 +795,10 @@ impl<'a> Problem<'a> {
     /// Searches for a witness of `target`, below a known `state` (a proper subset of
     /// its contacts, or parts of them: a vertex of an edge that lies in a face), from
     /// that state's witness by pushing the other contacts' elements apart (one
-    /// optimisation). Poses that verify as other states are returned as with
-    /// [`Problem::find`]; a target not below the state is not searched.
+    /// optimisation), else by small turns off the witness (a target that holds only
+    /// in a band along the state's region). Poses that verify as other states are
+    /// returned as with [`Problem::find`]; a target not below the state is not
+    /// searched.
     pub fn find_below(
         &self,
         target: &[PrincipalContact],
@@ -804,33 +806,43 @@ impl<'a> Problem<'a> {
         witness: Pose,
         stats: &mut SearchStats,
     ) -> Search {
+        match self.push_apart(target, state, witness, stats) {
+            None => Search::NotFound { others: Vec::new() },
+            Some(Search::Found(pose)) => Search::Found(pose),
+            Some(missed) => self.turn_off(target, witness).map_or(missed, Search::Found),
+        }
+    }
+
+    /// [`Problem::find_below`]'s optimisation alone (what a search that lands on a
+    /// state above its target tries); `None` when the target is not below the state.
+    fn push_apart(
+        &self,
+        target: &[PrincipalContact],
+        state: &[PrincipalContact],
+        witness: Pose,
+        stats: &mut SearchStats,
+    ) -> Option<Search> {
         let placed = self.placement(&witness);
         let touches =
             |a: ElementId, b: ElementId| self.scene.element_distance(&placed, a, b) <= 2.0 * self.separation();
-        let Some(extra) = below::parted_pairs(self.fixed, self.moving, target, state, touches) else {
-            return Search::NotFound { others: Vec::new() };
-        };
+        let extra = below::parted_pairs(self.fixed, self.moving, target, state, touches)?;
         stats.optimisations += 1;
         let pose = self.release(target, &extra, witness, &self.bounds);
-        match self.verify(&pose) {
+        Some(match self.verify(&pose) {
             Some(found) if found == target => Search::Found(pose),
-            Some(found) => match self.turn_off(target, witness) {
-                Some(turned) => Search::Found(turned),
-                None => Search::NotFound {
-                    others: vec![(found, pose)],
-                },
+            Some(found) => Search::NotFound {
+                others: vec![(found, pose)],
             },
             // The target holds but not robustly (a sliver narrower than the clearance
             // pushed for): the pairs still close are pushed apart from there.
             None => match self
                 .inspect(&pose)
                 .and_then(|report| self.clear(target, pose, &report, &self.bounds, stats))
-                .or_else(|| self.turn_off(target, witness))
             {
                 Some(cleared) => Search::Found(cleared),
                 None => Search::NotFound { others: Vec::new() },
             },
-        }
+        })
     }
 
     /// A witness of `target` a small turn off a state's witness: each turn about one
