@@ -33,6 +33,18 @@ fn verify(fixed: &Part, moving: &Part, bounds: &Bounds, contact: &PrincipalConta
     }
 }
 
+/// The edge of `part` between the points `a` and `b`.
+fn edge_where(part: &Part, a: DVec3, b: DVec3) -> ElementId {
+    (0..part.edges().len() as u32)
+        .map(acsg::model::EdgeId)
+        .find(|&e| {
+            let [p, q] = part.edge_points(e);
+            (p.distance(a) < 1e-9 && q.distance(b) < 1e-9) || (p.distance(b) < 1e-9 && q.distance(a) < 1e-9)
+        })
+        .map(ElementId::Edge)
+        .expect("the edge")
+}
+
 fn slab_top(slab: &Part) -> ElementId {
     let i = slab
         .faces()
@@ -407,16 +419,6 @@ fn a_vertex_of_an_edge_on_the_slab_is_found_by_tilting_the_edge_off_about_it() {
 #[test]
 fn an_edge_lying_across_a_face_is_lifted_to_cross_only_one_of_its_edges() {
     let (slab, cube) = acsg::examples::cube_and_slab();
-    let edge_where = |part: &Part, a: DVec3, b: DVec3| {
-        (0..part.edges().len() as u32)
-            .map(acsg::model::EdgeId)
-            .find(|&e| {
-                let [p, q] = part.edge_points(e);
-                (p.distance(a) < 1e-9 && q.distance(b) < 1e-9) || (p.distance(b) < 1e-9 && q.distance(a) < 1e-9)
-            })
-            .map(ElementId::Edge)
-            .expect("the edge")
-    };
     let rim = edge_where(&slab, DVec3::new(100.0, -100.0, 0.0), DVec3::new(100.0, 100.0, 0.0));
     let front = edge_where(&cube, DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0));
     let bottom = cube
@@ -468,21 +470,17 @@ fn two_edges_held_in_the_band_of_two_small_turns_are_found_from_the_flush_corner
             .expect("the face");
         ElementId::Face(FaceId(i as u32))
     };
-    let edge_where = |part: &Part, a: DVec3, b: DVec3| {
-        (0..part.edges().len() as u32)
-            .map(acsg::model::EdgeId)
-            .find(|&e| {
-                let [p, q] = part.edge_points(e);
-                (p.distance(a) < 1e-9 && q.distance(b) < 1e-9) || (p.distance(b) < 1e-9 && q.distance(a) < 1e-9)
-            })
-            .map(ElementId::Edge)
-            .expect("the edge")
-    };
     // The floor z = 50 and the wall x = 150 of the block; the box spans (50..150,
     // 10..90, 50..150).
     let (at_floor, at_wall) = (DVec3::new(100.0, 50.0, 50.0), DVec3::new(150.0, 50.0, 100.0));
-    let (floor, wall) = (face_where(&block, DVec3::Z, at_floor), face_where(&block, -DVec3::X, at_wall));
-    let (bottom, side) = (face_where(&cube, -DVec3::Z, at_floor), face_where(&cube, DVec3::X, at_wall));
+    let (floor, wall) = (
+        face_where(&block, DVec3::Z, at_floor),
+        face_where(&block, -DVec3::X, at_wall),
+    );
+    let (bottom, side) = (
+        face_where(&cube, -DVec3::Z, at_floor),
+        face_where(&cube, DVec3::X, at_wall),
+    );
     let bottom_edge = edge_where(&cube, DVec3::new(50.0, 90.0, 50.0), DVec3::new(150.0, 90.0, 50.0));
     let upright = edge_where(&cube, DVec3::new(150.0, 10.0, 50.0), DVec3::new(150.0, 10.0, 150.0));
     let contact = |fixed, moving, kind| PrincipalContact { fixed, moving, kind };
@@ -511,7 +509,10 @@ fn two_edges_held_in_the_band_of_two_small_turns_are_found_from_the_flush_corner
     assert_eq!(report.contacts, band, "at {pose:?}");
     assert_eq!(report.penetration, 0.0);
     let gap = report.min_gap.expect("pairs apart");
-    assert!(gap >= SEPARATION_REL * scene.scale(), "a pair only {gap} apart at {pose:?}");
+    assert!(
+        gap >= SEPARATION_REL * scene.scale(),
+        "a pair only {gap} apart at {pose:?}"
+    );
     // In the band: the upright's lean off the wall within the contact tolerance, though
     // both angles are turned.
     let lean = (pose.rx.sin() * pose.rz.sin()).abs() * 100.0;

@@ -859,7 +859,8 @@ impl<'a> Problem<'a> {
                 for signs in 0..1u32 << turn.len() {
                     let mut x = witness.to_array();
                     for (i, &k) in turn.iter().enumerate() {
-                        x[k] += if (signs >> i) & 1 == 0 { factor * unit } else { -factor * unit };
+                        let sign = if (signs >> i) & 1 == 0 { 1.0 } else { -1.0 };
+                        x[k] += sign * factor * unit;
                     }
                     let pose = self.fit_translation(target, Pose::from_array(x));
                     if self.verify(&pose).as_deref() == Some(target) {
