@@ -809,6 +809,10 @@ impl<'a> Problem<'a> {
         match self.push_apart(target, state, witness, stats) {
             None => Search::NotFound { others: Vec::new() },
             Some(Search::Found(pose)) => Search::Found(pose),
+            // Bands lie along a state where a contact of the target is a part of one
+            // of the state's (an edge of a face lying on a face), not where the target
+            // merely drops contacts.
+            Some(missed) if target.iter().all(|c| state.contains(c)) => missed,
             Some(missed) => self.turn_off(target, witness).map_or(missed, Search::Found),
         }
     }

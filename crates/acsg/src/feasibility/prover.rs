@@ -202,6 +202,9 @@ pub(crate) struct Prover<'a> {
     /// The widest box of rotations (sum of half-widths) the second-order test is tried
     /// in: wider boxes cost more programmes and are more often split than proved.
     max_turn: f64,
+    /// Whether that width counts the tilts only, whatever the yaw (from
+    /// [`super::THOROUGH_EFFORT`]: it decides more candidates, at more programmes).
+    yaw_free: bool,
 }
 
 impl<'a> Prover<'a> {
@@ -224,6 +227,7 @@ impl<'a> Prover<'a> {
             slack: scaled(10.0 * CONTACT_REL, scale),
             margin: scaled(0.5 * SEPARATION_REL, scale),
             max_turn: linearised::TURN_PER_EFFORT,
+            yaw_free: false,
         }
     }
 
@@ -259,6 +263,7 @@ impl<'a> Prover<'a> {
     /// [`super::Problem::set_effort`]).
     pub fn set_effort(&mut self, effort: u32) {
         self.max_turn = (linearised::TURN_PER_EFFORT * f64::from(effort.max(1))).min(linearised::MAX_TURN);
+        self.yaw_free = effort >= super::THOROUGH_EFFORT;
     }
 
     /// The constraints of a state's contacts; `None` when they are already
@@ -1079,9 +1084,11 @@ mod tests {
         let lower = Bounds::try_new([-1.0, -1.0, -0.05, -r, -r, -r], [1.0, 1.0, 0.05, r, r, r]).unwrap();
         assert_eq!(problem.exclusion(&corner, &lower), None);
         // The same turned about z by 0.1 to 0.3 rad (where v4 stays over the floor):
-        // heights over the floor do not depend on the yaw, so the narrow tilts alone
-        // let the linearised test apply.
+        // heights over the floor do not depend on the yaw, so at the thorough effort
+        // the narrow tilts alone let the linearised test apply.
         let yawed = Bounds::try_new([-1.0, -1.0, 0.0, -r, -r, 0.1], [1.0, 1.0, 0.05, r, r, 0.3]).unwrap();
+        let mut problem = problem;
+        problem.set_effort(crate::feasibility::THOROUGH_EFFORT);
         assert!(problem.exclusion(&corner, &yawed).is_some());
         let yawed_lower = Bounds::try_new([-1.0, -1.0, -0.05, -r, -r, 0.1], [1.0, 1.0, 0.05, r, r, 0.3]).unwrap();
         assert_eq!(problem.exclusion(&corner, &yawed_lower), None);

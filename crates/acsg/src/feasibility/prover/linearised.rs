@@ -135,7 +135,10 @@ impl Turn {
     /// of `n` along z is turned by the tilts only (`Rz` keeps z), so it pays for `rx`
     /// and `ry` alone: a height over a floor stays linear however wide the yaw.
     fn second_along(&self, n: DVec3, v: DVec3) -> f64 {
-        let [hx, hy, _] = self.h;
+        let [hx, hy, hz] = self.h;
+        if hz == 0.0 || n.z == 0.0 {
+            return self.remainder(n, v, self.h, self.s);
+        }
         let across = DVec3::new(n.x, n.y, 0.0);
         let along_z = DVec3::new(0.0, 0.0, n.z);
         let split = self.remainder(across, v, self.h, self.s) + self.remainder(along_z, v, [hx, hy, 0.0], hx + hy);
@@ -240,9 +243,10 @@ impl Prover<'_> {
     pub(super) fn linearised(&self, links: &super::Links, bounds: &Bounds) -> Option<Bounds> {
         let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
         let turn = Turn::new(&lo, &hi);
-        // A wide yaw alone does not stop it: heights over planes normal to z stay
-        // linear (see `Turn::second_along`).
-        if turn.h[0] + turn.h[1] > self.max_turn {
+        // With `yaw_free`, a wide yaw alone does not stop it: heights over planes
+        // normal to z stay linear (see `Turn::second_along`).
+        let width = if self.yaw_free { turn.h[0] + turn.h[1] } else { turn.s };
+        if width > self.max_turn {
             return Some(*bounds);
         }
         // Angles as offsets from the centre.
