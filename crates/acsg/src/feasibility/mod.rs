@@ -812,7 +812,7 @@ impl<'a> Problem<'a> {
             // Bands lie along a state where a contact of the target is a part of one
             // of the state's (an edge of a face lying on a face), not where the target
             // merely drops contacts.
-            Some(missed) if target.iter().all(|c| state.contains(c)) => missed,
+            Some(missed) if !below::lies_strictly_below(self.fixed, self.moving, target, state) => missed,
             Some(missed) => self.turn_off(target, witness).map_or(missed, Search::Found),
         }
     }

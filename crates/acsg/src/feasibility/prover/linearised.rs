@@ -135,14 +135,23 @@ impl Turn {
     /// of `n` along z is turned by the tilts only (`Rz` keeps z), so it pays for `rx`
     /// and `ry` alone: a height over a floor stays linear however wide the yaw.
     fn second_along(&self, n: DVec3, v: DVec3) -> f64 {
-        let [hx, hy, hz] = self.h;
-        if hz == 0.0 || n.z == 0.0 {
+        let Some((across, along_z)) = self.split_along_z(n) else {
             return self.remainder(n, v, self.h, self.s);
-        }
-        let across = DVec3::new(n.x, n.y, 0.0);
-        let along_z = DVec3::new(0.0, 0.0, n.z);
-        let split = self.remainder(across, v, self.h, self.s) + self.remainder(along_z, v, [hx, hy, 0.0], hx + hy);
+        };
+        let [hx, hy, _] = self.h;
+        let split = self.remainder(across, v, self.h, self.s) + self.remainder(along_z, v, [hx, hy, 0.0], self.tilts());
         split.min(self.second(v) * n.length())
+    }
+
+    /// `n` as its part across z and its part along z, which the yaw does not turn;
+    /// `None` when the split gains nothing (no yaw in the box, or no part along z).
+    fn split_along_z(&self, n: DVec3) -> Option<(DVec3, DVec3)> {
+        (self.h[2] != 0.0 && n.z != 0.0).then(|| (DVec3::new(n.x, n.y, 0.0), DVec3::new(0.0, 0.0, n.z)))
+    }
+
+    /// The sum of the tilts' (`rx`, `ry`) half-widths.
+    fn tilts(&self) -> f64 {
+        self.h[0] + self.h[1]
     }
 
     /// [`Turn::second_along`] over angle half-widths `h` summing to `s`, for a `n`
@@ -201,11 +210,14 @@ impl Turn {
     fn moving_point_hull(&self, n: DVec3, w: DVec3, lo: &[f64; VARS], hi: &[f64; VARS]) -> Interval {
         let base = n.dot(self.r * w);
         let reach = |n: DVec3, turn: f64, s: f64| n.length() * w.length() * (turn + 0.5 * s * s);
+        let whole = reach(n, turn_reach(lo, hi), self.s);
         // As in `second_along`, the part of `n` along z moves with the tilts only.
-        let (across, along_z) = (DVec3::new(n.x, n.y, 0.0), DVec3::new(0.0, 0.0, n.z));
-        let tilts = self.h[0] + self.h[1];
-        let rest = reach(n, turn_reach(lo, hi), self.s)
-            .min(reach(across, turn_reach(lo, hi), self.s) + reach(along_z, tilt_reach(lo, hi), tilts));
+        let rest = match self.split_along_z(n) {
+            Some((across, along_z)) => {
+                whole.min(reach(across, turn_reach(lo, hi), self.s) + reach(along_z, tilt_reach(lo, hi), self.tilts()))
+            }
+            None => whole,
+        };
         hull(base, n.to_array(), lo, hi, rest)
     }
 
@@ -245,7 +257,7 @@ impl Prover<'_> {
         let turn = Turn::new(&lo, &hi);
         // With `yaw_free`, a wide yaw alone does not stop it: heights over planes
         // normal to z stay linear (see `Turn::second_along`).
-        let width = if self.yaw_free { turn.h[0] + turn.h[1] } else { turn.s };
+        let width = if self.yaw_free { turn.tilts() } else { turn.s };
         if width > self.max_turn {
             return Some(*bounds);
         }
@@ -272,8 +284,11 @@ impl Prover<'_> {
         propagate(&linear.rows, &mut linear.lo, &mut linear.hi)?;
         // The yaw's width costs nothing here (see `Turn::second_along`): the tilts'
         // decide how often the box is proved rather than split.
-        let tilts = linear.turn.h[0] + linear.turn.h[1];
-        let mut budget = if tilts > NARROW_TURN { WIDE_CASES } else { CASES };
+        let mut budget = if linear.turn.tilts() > NARROW_TURN {
+            WIDE_CASES
+        } else {
+            CASES
+        };
         let mut rows = std::mem::take(&mut linear.rows);
         if linear.refute(&mut rows, &mut budget) {
             return None;
