@@ -519,3 +519,84 @@ fn two_edges_held_in_the_band_of_two_small_turns_are_found_from_the_flush_corner
     assert!(lean <= CONTACT_REL * scene.scale(), "lean {lean} at {pose:?}");
     assert!(pose.rx.abs() > 1e-7 && pose.rz.abs() > 1e-7, "{pose:?}");
 }
+
+/// The face of `part` with outward normal `normal` whose plane holds `p` and whose
+/// outline's box holds it too.
+fn face_at(part: &Part, normal: DVec3, p: DVec3) -> ElementId {
+    let i = part
+        .faces()
+        .iter()
+        .enumerate()
+        .position(|(i, f)| {
+            let outline = part.outline_points(ElementId::Face(FaceId(i as u32)));
+            let lo = outline.iter().fold(DVec3::INFINITY, |a, &q| a.min(q));
+            let hi = outline.iter().fold(DVec3::NEG_INFINITY, |a, &q| a.max(q));
+            f.normal.distance(normal) < 1e-12
+                && f.signed_distance(p).abs() < 1e-9
+                && p.cmpge(lo - 1e-9).all()
+                && p.cmple(hi + 1e-9).all()
+        })
+        .expect("the face");
+    ElementId::Face(FaceId(i as u32))
+}
+
+/// The plus peg pressed against the hole's +y walls at the y bound (1 mm, exactly the
+/// clearance) and tilted 1° about y, just entering the hole: the top of its upper arm
+/// on the wall at y = 76 and its right arm on the wall at y = 61 (faces of different
+/// convex pieces, in one plane), with its +x side leaning on the hole's rim edge at
+/// x = 76, while the tilt keeps its left arm above the block, off the other wall at
+/// y = 61. At that rotation the three contacts hold on a stretch of the line where the
+/// rim's Minkowski facet meets the two walls' coplanar facets, and the left arm's wall
+/// facet covers only part of that stretch: the stretch must be cut where that facet
+/// ends, or its middle shows the four contacts only. (The generator missed this state
+/// at bounds `x=-1:1,y=-1:1,z=0:45,ry=-1:1`, found by the recall oracle at ry = 1°.)
+#[test]
+fn the_sweep_parts_a_stretch_where_a_coplanar_facet_ends() {
+    let (block, peg) = (load("block_with_plus_hole.off"), load("plus_peg.off"));
+    let ry = 1f64.to_radians();
+    let bounds = Bounds::try_new([-1.0, -1.0, 0.0, 0.0, ry, 0.0], [1.0, 1.0, 45.0, 0.0, ry, 0.0]).unwrap();
+    let flat = |fixed: ElementId, moving: ElementId| PrincipalContact {
+        fixed,
+        moving,
+        kind: ContactKind::FaceFace,
+    };
+    let mut expected = vec![
+        flat(
+            face_at(&block, -DVec3::Y, DVec3::new(50.0, 76.0, 25.0)),
+            face_at(&peg, DVec3::Y, DVec3::new(50.0, 75.0, 50.0)),
+        ),
+        flat(
+            face_at(&block, -DVec3::Y, DVec3::new(68.0, 61.0, 25.0)),
+            face_at(&peg, DVec3::Y, DVec3::new(68.0, 60.0, 50.0)),
+        ),
+        PrincipalContact {
+            fixed: edge_where(&block, DVec3::new(76.0, 39.0, 50.0), DVec3::new(76.0, 61.0, 50.0)),
+            moving: face_at(&peg, DVec3::X, DVec3::new(75.0, 50.0, 50.0)),
+            kind: ContactKind::EdgeFace,
+        },
+    ];
+    expected.sort();
+    let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+    let finds = problem.states_in_slices(&bounds, acsg::feasibility::Density::WIDE, false);
+    let (_, pose) = finds
+        .states
+        .iter()
+        .find(|(state, _)| *state == expected)
+        .unwrap_or_else(|| {
+            panic!(
+                "not found; the sweep found {:?}",
+                finds.states.iter().map(|(s, _)| s).collect::<Vec<_>>()
+            )
+        });
+    // Checked by the contact module, not the sweep: exactly these contacts, no
+    // penetration, every other pair clear.
+    let scene = ContactScene::new(&block, &peg);
+    let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.contacts, expected, "at {pose:?}");
+    assert_eq!(report.penetration, 0.0);
+    assert!(
+        report.min_gap.is_none_or(|gap| gap >= SEPARATION_REL * scene.scale()),
+        "at {pose:?}"
+    );
+    assert!(bounds.contains(pose, 1e-12, 1e-12));
+}

@@ -307,13 +307,13 @@ impl Difference {
         }
     }
 
-    /// The open interval of `s` where `x0 + s d` is strictly inside (by more than
-    /// `tol`), if any.
-    fn inside_along(&self, x0: DVec3, d: DVec3, tol: f64) -> Option<(f64, f64)> {
+    /// The open interval of `s` where `x0 + s d` is more than `margin` inside (a
+    /// negative `margin`: closer than `-margin` to the difference or in it), if any.
+    fn inside_along(&self, x0: DVec3, d: DVec3, margin: f64) -> Option<(f64, f64)> {
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
         for f in &self.facets {
-            // f.normal · (x0 + s d) < f.offset − tol
-            let (a, b) = (f.normal.dot(d), f.offset - tol - f.normal.dot(x0));
+            // f.normal · (x0 + s d) < f.offset − margin
+            let (a, b) = (f.normal.dot(d), f.offset - margin - f.normal.dot(x0));
             if a.abs() < 1e-15 {
                 if b <= 0.0 {
                     return None;
@@ -955,10 +955,17 @@ fn meeting_points(
         return;
     }
     let mut stretches = vec![(lo, hi)];
+    // Where another difference only touches the segment (a facet of it lying along the
+    // segment, as where faces of several pieces are coplanar), the segment shows one
+    // more contact: each end of such a stretch parts two states, both sampled.
+    let mut cuts = Vec::new();
     let segment = Aabb::around([x0 + d * lo, x0 + d * hi]);
     for (m, diff) in differences.iter().enumerate() {
         if own.contains(&m) || !diff.meets(&segment, tol) {
             continue;
+        }
+        if let Some((a, b)) = diff.inside_along(x0, d, -tol) {
+            cuts.extend([a, b].into_iter().filter(|c| c.is_finite()));
         }
         let Some((a, b)) = diff.inside_along(x0, d, tol) else {
             continue;
@@ -978,9 +985,16 @@ fn meeting_points(
         }
         stretches = next;
     }
+    cuts.sort_by(f64::total_cmp);
     for (s, e) in stretches {
-        if e - s > tol {
-            out.push(x0 + d * (0.5 * (s + e)));
+        // The middle of every part of the stretch between the cuts.
+        let inner = cuts.iter().copied().filter(|&c| c > s + tol && c < e - tol);
+        let mut from = s;
+        for to in inner.chain([e]) {
+            if to - from > tol {
+                out.push(x0 + d * (0.5 * (from + to)));
+            }
+            from = to;
         }
         // Both ends: another difference's boundary (three contacts), or an edge of
         // either facet (a contact at an element's end, or a third facet of the same
