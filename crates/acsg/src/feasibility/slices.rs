@@ -882,6 +882,17 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -
         if m == own || !d.meets(&around, tol) {
             continue;
         }
+        // A facet of `d` in `f`'s plane: `d` lies behind that plane and never holds
+        // `f`'s points, but where the facets overlap both contacts hold. Each part of
+        // the region, inside the other facet and out of it, is sampled.
+        if let Some(g) = d
+            .facets
+            .iter()
+            .find(|g| g.normal.dot(f.normal) > 1.0 - 1e-12 && (g.offset - f.offset).abs() <= tol)
+        {
+            pieces = pieces.into_iter().flat_map(|piece| split_by(piece, g, tol)).collect();
+            continue;
+        }
         let mut kept = Vec::new();
         for piece in pieces {
             let mut rest = piece;
@@ -906,6 +917,30 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -
         }
     }
     pieces
+}
+
+/// A convex polygon in the plane of facet `g`, cut into its part inside `g`'s polygon
+/// and the parts outside each of its edges (those of some area).
+fn split_by(polygon: Vec<DVec3>, g: &Facet, tol: f64) -> Vec<Vec<DVec3>> {
+    let mut parts = Vec::new();
+    let mut rest = polygon;
+    let k = g.polygon.len();
+    for i in 0..k {
+        let (p, q) = (g.polygon[i], g.polygon[(i + 1) % k]);
+        let outward = (q - p).cross(g.normal);
+        let outside = clip_convex(&rest, -outward, -outward.dot(p));
+        if outside.len() >= 3 && area(&outside, g.normal).abs() > tol * tol {
+            parts.push(outside);
+        }
+        rest = clip_convex(&rest, outward, outward.dot(p));
+        if rest.len() < 3 {
+            return parts;
+        }
+    }
+    if area(&rest, g.normal).abs() > tol * tol {
+        parts.push(rest);
+    }
+    parts
 }
 
 /// The samples where facets `f1` and `f2` (of differences `own`) meet: the middle of
@@ -1120,6 +1155,89 @@ mod tests {
             assert_eq!(problem.verify(pose).as_ref(), Some(state));
             assert!(bounds.contains(pose, 1e-9, 1e-12), "{pose:?}");
         }
+    }
+
+    /// The box `[lo, hi]` as a difference: its six faces as facets (corners
+    /// counter-clockwise seen from outside), those normal to z first: a region cut
+    /// by the other facets first would be split by them anyway.
+    fn box_difference(lo: DVec3, hi: DVec3) -> Difference {
+        let corner = |bits: [bool; 3]| {
+            DVec3::new(
+                if bits[0] { hi.x } else { lo.x },
+                if bits[1] { hi.y } else { lo.y },
+                if bits[2] { hi.z } else { lo.z },
+            )
+        };
+        let mut facets = Vec::new();
+        for k in [2, 0, 1] {
+            for high in [false, true] {
+                let normal = if high { DVec3::AXES[k] } else { -DVec3::AXES[k] };
+                let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                let mut polygon: Vec<DVec3> = [(false, false), (true, false), (true, true), (false, true)]
+                    .iter()
+                    .map(|&(a, b)| {
+                        let mut bits = [false; 3];
+                        bits[k] = high;
+                        bits[i] = a;
+                        bits[j] = b;
+                        corner(bits)
+                    })
+                    .collect();
+                if area(&polygon, normal) < 0.0 {
+                    polygon.reverse();
+                }
+                let offset = normal.dot(polygon[0]);
+                facets.push(Facet {
+                    normal,
+                    offset,
+                    polygon,
+                });
+            }
+        }
+        Difference {
+            facets,
+            bounds: Aabb { min: lo, max: hi },
+        }
+    }
+
+    /// Two boxes side by side under the plane z = 0, their tops in it and overlapping
+    /// over [1, 2] in x: the top of the first is cut where the second's top begins, so
+    /// that a sample lies on each top alone and one on both (before, the first top was
+    /// one region, its centre on both). A third box whose side x = 1.5 meets the first
+    /// top along a segment, over which the second's top lies from y = 1 on: that
+    /// stretch is cut at y = 1 too, a sample on each side.
+    #[test]
+    fn coplanar_facets_of_other_differences_cut_the_regions_and_stretches_they_cover() {
+        let tol = 1e-9;
+        let first = || box_difference(DVec3::new(0.0, 0.0, -1.0), DVec3::new(2.0, 2.0, 0.0));
+        let second = || box_difference(DVec3::new(1.0, 1.0, -1.0), DVec3::new(3.0, 3.0, 0.0));
+        let top = |d: &Difference| d.facets.iter().find(|f| f.normal == DVec3::Z).unwrap().clone();
+        let differences = [first(), second()];
+        let regions = outside_others(&top(&differences[0]), 0, &differences, tol);
+        let total: f64 = regions.iter().map(|r| area(r, DVec3::Z)).sum();
+        assert!((total - 4.0).abs() < 1e-12, "the regions cover the top: {total}");
+        let on_second = |p: DVec3| p.x > 1.0 && p.y > 1.0;
+        let inside: Vec<bool> = regions.iter().map(|r| on_second(centroid(r))).collect();
+        assert!(inside.contains(&true) && inside.contains(&false), "{regions:?}");
+        for r in &regions {
+            // No region straddles the second top's outline.
+            let c = on_second(centroid(r));
+            assert!(r.iter().all(|&p| on_second(p + (centroid(r) - p) * 1e-6) == c), "{r:?}");
+        }
+
+        // A side wall x = 1.5 of a third box, crossing the first top along y in [0, 2].
+        let third = box_difference(DVec3::new(1.5, -1.0, -5.0), DVec3::new(4.0, 4.0, 5.0));
+        let wall = third.facets.iter().find(|f| f.normal == -DVec3::X).unwrap().clone();
+        let differences = [first(), second(), third];
+        let mut out = Vec::new();
+        meeting_points(&top(&differences[0]), &wall, [0, 2], &differences, tol, false, &mut out);
+        let on_segment: Vec<f64> = out
+            .iter()
+            .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)
+            .map(|p| p.y)
+            .collect();
+        assert!(on_segment.iter().any(|&y| y > 0.0 && y < 1.0), "{out:?}");
+        assert!(on_segment.iter().any(|&y| y > 1.0 && y < 2.0), "{out:?}");
     }
 
     #[test]
