@@ -412,7 +412,7 @@ impl Sweep {
         }
         let mut out = Vec::new();
         for (m, f) in &facets {
-            for region in outside_others(f, *m, &differences, tol) {
+            for region in outside_others(f, *m, &differences, tol, self.thorough) {
                 out.push(centroid(&region));
             }
         }
@@ -875,7 +875,7 @@ fn centroid(polygon: &[DVec3]) -> DVec3 {
 
 /// The parts of facet `f` of difference `own` that lie inside no other difference (by
 /// more than `tol`), as convex polygons of some area.
-fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -> Vec<Vec<DVec3>> {
+fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64, split: bool) -> Vec<Vec<DVec3>> {
     let around = Aabb::around(f.polygon.iter().copied());
     let mut pieces = vec![f.polygon.clone()];
     for (m, d) in differences.iter().enumerate() {
@@ -883,13 +883,14 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -
             continue;
         }
         // A facet of `d` in `f`'s plane: `d` lies behind that plane and never holds
-        // `f`'s points, but where the facets overlap both contacts hold. Each part of
-        // the region, inside the other facet and out of it, is sampled.
-        if let Some(g) = d
-            .facets
-            .iter()
-            .find(|g| g.normal.dot(f.normal) > 1.0 - 1e-12 && (g.offset - f.offset).abs() <= tol)
-        {
+        // `f`'s points, but where the facets overlap both contacts hold. With `split`,
+        // each part of the region, inside the other facet and out of it, is sampled
+        // (pieces of one face in one plane make many such parts: at effort 1 it would
+        // cost the plus peg's yawed run 1.7 times its time).
+        if let Some(g) = d.facets.iter().find(|g| coplanar(g, f, tol)) {
+            if !split {
+                continue;
+            }
             pieces = pieces.into_iter().flat_map(|piece| split_by(piece, g, tol)).collect();
             continue;
         }
@@ -917,6 +918,11 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -
         }
     }
     pieces
+}
+
+/// Whether two facets lie in one plane, facing the same way.
+fn coplanar(g: &Facet, f: &Facet, tol: f64) -> bool {
+    g.normal.dot(f.normal) > 1.0 - 1e-12 && (g.offset - f.offset).abs() <= tol
 }
 
 /// A convex polygon in the plane of facet `g`, cut into its part inside `g`'s polygon
@@ -990,8 +996,8 @@ fn meeting_points(
         return;
     }
     let mut stretches = vec![(lo, hi)];
-    // Where another difference only touches the segment (a facet of it lying along the
-    // segment, as where faces of several pieces are coplanar), the segment shows one
+    // Where another difference only touches the segment, with a facet in the plane of
+    // one of the two (faces of several pieces in one plane), the segment shows one
     // more contact: each end of such a stretch parts two states, both sampled.
     let mut cuts = Vec::new();
     let segment = Aabb::around([x0 + d * lo, x0 + d * hi]);
@@ -999,8 +1005,10 @@ fn meeting_points(
         if own.contains(&m) || !diff.meets(&segment, tol) {
             continue;
         }
-        if let Some((a, b)) = diff.inside_along(x0, d, -tol) {
-            cuts.extend([a, b].into_iter().filter(|c| c.is_finite()));
+        if diff.facets.iter().any(|g| coplanar(g, f1, tol) || coplanar(g, f2, tol)) {
+            if let Some((a, b)) = diff.inside_along(x0, d, -tol) {
+                cuts.extend([a, b].into_iter().filter(|c| c.is_finite()));
+            }
         }
         let Some((a, b)) = diff.inside_along(x0, d, tol) else {
             continue;
@@ -1213,7 +1221,7 @@ mod tests {
         let second = || box_difference(DVec3::new(1.0, 1.0, -1.0), DVec3::new(3.0, 3.0, 0.0));
         let top = |d: &Difference| d.facets.iter().find(|f| f.normal == DVec3::Z).unwrap().clone();
         let differences = [first(), second()];
-        let regions = outside_others(&top(&differences[0]), 0, &differences, tol);
+        let regions = outside_others(&top(&differences[0]), 0, &differences, tol, true);
         let total: f64 = regions.iter().map(|r| area(r, DVec3::Z)).sum();
         assert!((total - 4.0).abs() < 1e-12, "the regions cover the top: {total}");
         let on_second = |p: DVec3| p.x > 1.0 && p.y > 1.0;
