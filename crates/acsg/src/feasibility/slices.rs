@@ -874,7 +874,8 @@ fn centroid(polygon: &[DVec3]) -> DVec3 {
 }
 
 /// The parts of facet `f` of difference `own` that lie inside no other difference (by
-/// more than `tol`), as convex polygons of some area.
+/// more than `tol`), as convex polygons of some area; with `split`, also cut where a
+/// coplanar facet of another difference ends.
 fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64, split: bool) -> Vec<Vec<DVec3>> {
     let around = Aabb::around(f.polygon.iter().copied());
     let mut pieces = vec![f.polygon.clone()];
@@ -888,29 +889,21 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64, s
         // (pieces of one face in one plane make many such parts: at effort 1 it would
         // cost the plus peg's yawed run 1.7 times its time).
         if let Some(g) = d.facets.iter().find(|g| coplanar(g, f, tol)) {
-            if !split {
-                continue;
+            if split {
+                pieces = pieces.into_iter().flat_map(|piece| split_by(piece, g, tol)).collect();
             }
-            pieces = pieces.into_iter().flat_map(|piece| split_by(piece, g, tol)).collect();
             continue;
         }
         let mut kept = Vec::new();
         for piece in pieces {
-            let mut rest = piece;
-            for g in &d.facets {
-                let cut = g.offset - tol;
-                if rest.iter().all(|p| g.normal.dot(*p) <= cut) {
-                    continue;
-                }
-                let outside = clip_convex(&rest, -g.normal, -cut);
-                if outside.len() >= 3 && area(&outside, f.normal).abs() > tol * tol {
-                    kept.push(outside);
-                }
-                rest = clip_convex(&rest, g.normal, cut);
-                if rest.len() < 3 {
-                    break;
-                }
-            }
+            // What is left lies inside `d`.
+            peel(
+                piece,
+                d.facets.iter().map(|g| (g.normal, g.offset - tol)),
+                f.normal,
+                tol,
+                &mut kept,
+            );
         }
         pieces = kept;
         if pieces.is_empty() {
@@ -928,30 +921,51 @@ fn coplanar(g: &Facet, f: &Facet, tol: f64) -> bool {
 /// A convex polygon in the plane of facet `g`, cut into its part inside `g`'s polygon
 /// and the parts outside each of its edges (those of some area).
 fn split_by(polygon: Vec<DVec3>, g: &Facet, tol: f64) -> Vec<Vec<DVec3>> {
-    let mut parts = Vec::new();
-    let mut rest = polygon;
     let k = g.polygon.len();
-    for i in 0..k {
+    let edges = (0..k).map(|i| {
         let (p, q) = (g.polygon[i], g.polygon[(i + 1) % k]);
         let outward = (q - p).cross(g.normal);
-        let outside = clip_convex(&rest, -outward, -outward.dot(p));
-        if outside.len() >= 3 && area(&outside, g.normal).abs() > tol * tol {
-            parts.push(outside);
-        }
-        rest = clip_convex(&rest, outward, outward.dot(p));
-        if rest.len() < 3 {
-            return parts;
-        }
-    }
-    if area(&rest, g.normal).abs() > tol * tol {
+        (outward, outward.dot(p))
+    });
+    let mut parts = Vec::new();
+    let rest = peel(polygon, edges, g.normal, tol, &mut parts);
+    if rest.len() >= 3 && area(&rest, g.normal).abs() > tol * tol {
         parts.push(rest);
     }
     parts
 }
 
+/// Peels off a convex polygon (normal `normal`) its parts outside each half-space
+/// `n · x <= cut` in turn, pushing those of some area to `parts`; returns what is left
+/// inside them all (fewer than three points when nothing is).
+fn peel(
+    polygon: Vec<DVec3>,
+    half_spaces: impl Iterator<Item = (DVec3, f64)>,
+    normal: DVec3,
+    tol: f64,
+    parts: &mut Vec<Vec<DVec3>>,
+) -> Vec<DVec3> {
+    let mut rest = polygon;
+    for (n, cut) in half_spaces {
+        if rest.iter().all(|p| n.dot(*p) <= cut) {
+            continue;
+        }
+        let outside = clip_convex(&rest, -n, -cut);
+        if outside.len() >= 3 && area(&outside, normal).abs() > tol * tol {
+            parts.push(outside);
+        }
+        rest = clip_convex(&rest, n, cut);
+        if rest.len() < 3 {
+            break;
+        }
+    }
+    rest
+}
+
 /// The samples where facets `f1` and `f2` (of differences `own`) meet: the middle of
-/// every stretch of their common segment inside no other difference, and the ends of
-/// those stretches where another difference's boundary cuts the segment.
+/// every stretch of their common segment inside no other difference (of every part of
+/// it, where a difference with a facet in the plane of either covers some of it), and
+/// the ends of those stretches where another difference's boundary cuts the segment.
 fn meeting_points(
     f1: &Facet,
     f2: &Facet,
