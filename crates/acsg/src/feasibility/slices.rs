@@ -26,8 +26,8 @@ use rayon::prelude::*;
 
 use super::Problem;
 use crate::contact::PrincipalContact;
-use crate::geometry::{Aabb, ConvexPolytope, clip_convex, newell, plane_basis};
-use crate::model::Part;
+use crate::geometry::{Aabb, ConvexPolytope, Segment, clip_convex, newell, plane_basis, point_segment};
+use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use crate::pose::{Bounds, Pose, euler_zyx};
 
 /// How many rotations a sweep takes: always the centre of the rotation bounds, the
@@ -181,6 +181,9 @@ impl Problem<'_> {
 /// A convex piece as the sweep needs it.
 struct Piece {
     vertices: Vec<DVec3>,
+    /// For each vertex, the elements of its part whose closure holds it (empty inside
+    /// the solid): what a facet's contact is named by.
+    holders: std::sync::Arc<[Vec<ElementId>]>,
     normals: Vec<DVec3>,
     /// Each edge once, as the normals of its two faces (its arc on the Gauss map).
     arcs: Vec<(DVec3, DVec3)>,
@@ -188,9 +191,10 @@ struct Piece {
 }
 
 impl Piece {
-    /// A piece mapped by `m` (a rigid motion, or a rotation and negation).
-    fn new(polytope: &ConvexPolytope, m: &DAffine3, eps: f64) -> Piece {
+    /// A piece of `part` mapped by `m` (a rigid motion, or a rotation and negation).
+    fn new(part: &Part, polytope: &ConvexPolytope, m: &DAffine3, eps: f64) -> Piece {
         let vertices: Vec<DVec3> = polytope.vertices().iter().map(|&v| m.transform_point3(v)).collect();
+        let holders = polytope.vertices().iter().map(|&v| holders_of(part, v, eps)).collect();
         let normals: Vec<DVec3> = polytope
             .faces()
             .iter()
@@ -221,6 +225,7 @@ impl Piece {
         Piece {
             bounds: Aabb::around(vertices.iter().copied()),
             vertices,
+            holders,
             normals,
             arcs,
         }
@@ -233,6 +238,7 @@ impl Piece {
         Piece {
             bounds: Aabb::around(vertices.iter().copied()),
             vertices,
+            holders: self.holders.clone(),
             normals: self.normals.iter().map(minus).collect(),
             arcs: self.arcs.iter().map(|(a, b)| (minus(a), minus(b))).collect(),
         }
@@ -261,6 +267,10 @@ struct Facet {
     normal: DVec3,
     offset: f64,
     polygon: Vec<DVec3>,
+    /// The contact its points show, as the elements of the fixed and the moving part
+    /// touching there; `None` when a support lies off the parts' boundaries or on no
+    /// one element.
+    contact: Option<(ElementId, ElementId)>,
 }
 
 /// A Minkowski difference `P ⊕ (−R Q)` of two convex pieces.
@@ -287,17 +297,23 @@ impl Difference {
                 continue;
             }
             let (hp, hq) = (p.support(n), q.support(n));
-            let near = |part: &Piece, h: f64| -> Vec<DVec3> {
-                part.vertices.iter().copied().filter(|v| n.dot(*v) >= h - tol).collect()
+            let near = |part: &Piece, h: f64| -> Vec<usize> {
+                (0..part.vertices.len())
+                    .filter(|&i| n.dot(part.vertices[i]) >= h - tol)
+                    .collect()
             };
             let (sp, sq) = (near(p, hp), near(q, hq));
-            let sums: Vec<DVec3> = sp.iter().flat_map(|a| sq.iter().map(move |b| *a + *b)).collect();
+            let sums: Vec<DVec3> = sp
+                .iter()
+                .flat_map(|&a| sq.iter().map(move |&b| p.vertices[a] + q.vertices[b]))
+                .collect();
             let polygon = hull_in_plane(&sums, n, tol);
             if polygon.len() >= 3 && area(&polygon, n) > tol * tol {
                 facets.push(Facet {
                     normal: n,
                     offset: hp + hq,
                     polygon,
+                    contact: common_element(&p.holders, &sp).zip(common_element(&q.holders, &sq)),
                 });
             }
         }
@@ -362,12 +378,12 @@ impl Sweep {
             fixed: fixed
                 .convex_pieces()
                 .iter()
-                .map(|p| Piece::new(p, &to_frame, eps))
+                .map(|p| Piece::new(fixed, p, &to_frame, eps))
                 .collect(),
             moving: moving
                 .convex_pieces()
                 .iter()
-                .map(|p| Piece::new(p, &identity, eps))
+                .map(|p| Piece::new(moving, p, &identity, eps))
                 .collect(),
             bounds: *bounds,
             translations: Aabb {
@@ -412,7 +428,7 @@ impl Sweep {
         }
         let mut out = Vec::new();
         for (m, f) in &facets {
-            for region in outside_others(f, *m, &differences, tol, self.thorough) {
+            for region in outside_others(f, *m, &differences, tol) {
                 out.push(centroid(&region));
             }
         }
@@ -534,7 +550,7 @@ impl Sweep {
         let directions = |part: &Part, frame: DMat3| -> (Vec<DVec3>, Vec<DVec3>) {
             let normals = part.faces().iter().map(|f| frame * f.normal).collect();
             let edges = (0..part.edges().len() as u32)
-                .map(|e| frame * part.edge_direction(crate::model::EdgeId(e)))
+                .map(|e| frame * part.edge_direction(EdgeId(e)))
                 .collect();
             (distinct(normals), distinct(edges))
         };
@@ -626,7 +642,7 @@ impl Sweep {
         let moving_normals: Vec<DVec3> = moving.faces().iter().map(|f| f.normal).collect();
         let edge_directions = |part: &Part| -> Vec<DVec3> {
             (0..part.edges().len() as u32)
-                .map(|e| part.edge_direction(crate::model::EdgeId(e)))
+                .map(|e| part.edge_direction(EdgeId(e)))
                 .collect()
         };
         let fixed_edges: Vec<DVec3> = edge_directions(fixed).into_iter().map(|d| self.to_frame * d).collect();
@@ -874,9 +890,9 @@ fn centroid(polygon: &[DVec3]) -> DVec3 {
 }
 
 /// The parts of facet `f` of difference `own` that lie inside no other difference (by
-/// more than `tol`), as convex polygons of some area; with `split`, also cut where a
-/// coplanar facet of another difference ends.
-fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64, split: bool) -> Vec<Vec<DVec3>> {
+/// more than `tol`), as convex polygons of some area, also cut where a coplanar facet
+/// of another difference showing another contact ends.
+fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64) -> Vec<Vec<DVec3>> {
     let around = Aabb::around(f.polygon.iter().copied());
     let mut pieces = vec![f.polygon.clone()];
     for (m, d) in differences.iter().enumerate() {
@@ -884,12 +900,11 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64, s
             continue;
         }
         // A facet of `d` in `f`'s plane: `d` lies behind that plane and never holds
-        // `f`'s points, but where the facets overlap both contacts hold. With `split`,
-        // each part of the region, inside the other facet and out of it, is sampled
-        // (pieces of one face in one plane make many such parts: at effort 1 it would
-        // cost the plus peg's yawed run 1.7 times its time).
+        // `f`'s points, but where the facets overlap both contacts hold: each part of
+        // the region, inside the other facet and out of it, is sampled, unless both
+        // show one contact (pieces of one face in one plane, which make many parts).
         if let Some(g) = d.facets.iter().find(|g| coplanar(g, f, tol)) {
-            if split {
+            if adds_a_contact(g, f, tol) {
                 pieces = pieces.into_iter().flat_map(|piece| split_by(piece, g, tol)).collect();
             }
             continue;
@@ -916,6 +931,72 @@ fn outside_others(f: &Facet, own: usize, differences: &[Difference], tol: f64, s
 /// Whether two facets lie in one plane, facing the same way.
 fn coplanar(g: &Facet, f: &Facet, tol: f64) -> bool {
     g.normal.dot(f.normal) > 1.0 - 1e-12 && (g.offset - f.offset).abs() <= tol
+}
+
+/// Whether facet `g`, in the plane of `f`, shows a contact `f` does not: where it
+/// covers part of `f`, that part shows one state more. Pieces of one face in one plane
+/// show the same contact on both sides of their seam, and need no cut there.
+fn adds_a_contact(g: &Facet, f: &Facet, tol: f64) -> bool {
+    coplanar(g, f, tol) && (g.contact.is_none() || g.contact != f.contact)
+}
+
+/// The elements of `part` whose closure holds `p` (within `eps`): the vertex at it with
+/// its edges and faces, else the edges through it with their faces, else the faces it
+/// lies in; sorted, and empty off the boundary (a corner of a cut between pieces).
+fn holders_of(part: &Part, p: DVec3, eps: f64) -> Vec<ElementId> {
+    let mut held = Vec::new();
+    if let Some((id, v)) = part
+        .vertices()
+        .iter()
+        .enumerate()
+        .find(|(_, v)| v.position.distance(p) <= eps)
+    {
+        held.push(ElementId::Vertex(VertexId(id as u32)));
+        held.extend(v.edges.iter().map(|&e| ElementId::Edge(e)));
+        held.extend(v.faces.iter().map(|&f| ElementId::Face(f)));
+    } else {
+        for (id, edge) in part.edges().iter().enumerate() {
+            let [a, b] = edge.vertices.map(|v| part.vertex(v).position);
+            if point_segment(p, &Segment::new(a, b)).0 <= eps {
+                held.push(ElementId::Edge(EdgeId(id as u32)));
+                held.extend(edge.faces.iter().map(|&f| ElementId::Face(f)));
+            }
+        }
+        if held.is_empty() {
+            for (id, face) in part.faces().iter().enumerate() {
+                let inside = face.signed_distance(p).abs() <= eps
+                    && face
+                        .triangles
+                        .iter()
+                        .any(|t| in_triangle(p, t.map(|v| part.vertex(v).position), eps));
+                if inside {
+                    held.push(ElementId::Face(FaceId(id as u32)));
+                }
+            }
+        }
+    }
+    held.sort();
+    held.dedup();
+    held
+}
+
+/// Whether `p`, in the triangle's plane, lies in it or within `eps` of it.
+fn in_triangle(p: DVec3, [a, b, c]: [DVec3; 3], eps: f64) -> bool {
+    let n = (b - a).cross(c - a).normalize_or_zero();
+    [(a, b), (b, c), (c, a)]
+        .iter()
+        .all(|&(u, v)| (v - u).cross(p - u).dot(n) >= -eps * u.distance(v))
+}
+
+/// The lowest-dimensional element whose closure holds every one of `points` (indices
+/// into `holders`); `None` when none does.
+fn common_element(holders: &[Vec<ElementId>], points: &[usize]) -> Option<ElementId> {
+    let (&first, rest) = points.split_first()?;
+    holders[first]
+        .iter()
+        .copied()
+        .filter(|e| rest.iter().all(|&i| holders[i].contains(e)))
+        .min_by_key(|e| e.dimension())
 }
 
 /// A convex polygon in the plane of facet `g`, cut into its part inside `g`'s polygon
@@ -1019,7 +1100,11 @@ fn meeting_points(
         if own.contains(&m) || !diff.meets(&segment, tol) {
             continue;
         }
-        if diff.facets.iter().any(|g| coplanar(g, f1, tol) || coplanar(g, f2, tol)) {
+        if diff
+            .facets
+            .iter()
+            .any(|g| adds_a_contact(g, f1, tol) || adds_a_contact(g, f2, tol))
+        {
             if let Some((a, b)) = diff.inside_along(x0, d, -tol) {
                 cuts.extend([a, b].into_iter().filter(|c| c.is_finite()));
             }
@@ -1213,6 +1298,7 @@ mod tests {
                     normal,
                     offset,
                     polygon,
+                    contact: None,
                 });
             }
         }
@@ -1235,7 +1321,7 @@ mod tests {
         let second = || box_difference(DVec3::new(1.0, 1.0, -1.0), DVec3::new(3.0, 3.0, 0.0));
         let top = |d: &Difference| d.facets.iter().find(|f| f.normal == DVec3::Z).unwrap().clone();
         let differences = [first(), second()];
-        let regions = outside_others(&top(&differences[0]), 0, &differences, tol, true);
+        let regions = outside_others(&top(&differences[0]), 0, &differences, tol);
         let total: f64 = regions.iter().map(|r| area(r, DVec3::Z)).sum();
         assert!((total - 4.0).abs() < 1e-12, "the regions cover the top: {total}");
         let on_second = |p: DVec3| p.x > 1.0 && p.y > 1.0;
@@ -1260,6 +1346,111 @@ mod tests {
             .collect();
         assert!(on_segment.iter().any(|&y| y > 0.0 && y < 1.0), "{out:?}");
         assert!(on_segment.iter().any(|&y| y > 1.0 && y < 2.0), "{out:?}");
+    }
+
+    /// The region and the stretch of the test above, where the second top names the
+    /// contact the first top names (two pieces of one face touching one vertex): the
+    /// same state on both sides of the second top's outline, so the first top is one
+    /// region and only the stretch's middle is sampled. Named otherwise, both are cut.
+    #[test]
+    fn a_coplanar_facet_showing_the_same_contact_does_not_cut_the_stretch() {
+        let tol = 1e-9;
+        let contact = |f: u32| Some((ElementId::Face(FaceId(f)), ElementId::Vertex(VertexId(0))));
+        let named = |d: Difference, f: u32| Difference {
+            facets: d
+                .facets
+                .into_iter()
+                .map(|facet| Facet {
+                    contact: if facet.normal == DVec3::Z { contact(f) } else { None },
+                    ..facet
+                })
+                .collect(),
+            ..d
+        };
+        // The first top names face 7; the second names `second_top`.
+        let tops = |second_top: u32| {
+            (
+                named(box_difference(DVec3::new(0.0, 0.0, -1.0), DVec3::new(2.0, 2.0, 0.0)), 7),
+                named(
+                    box_difference(DVec3::new(1.0, 1.0, -1.0), DVec3::new(3.0, 3.0, 0.0)),
+                    second_top,
+                ),
+            )
+        };
+        let samples_on_the_wall = |second_top: u32| {
+            let (first, second) = tops(second_top);
+            let third = box_difference(DVec3::new(1.5, -1.0, -5.0), DVec3::new(4.0, 4.0, 5.0));
+            let top = first.facets.iter().find(|f| f.normal == DVec3::Z).unwrap().clone();
+            let wall = third.facets.iter().find(|f| f.normal == -DVec3::X).unwrap().clone();
+            let mut out = Vec::new();
+            meeting_points(&top, &wall, [0, 2], &[first, second, third], tol, false, &mut out);
+            let mut ys: Vec<f64> = out
+                .iter()
+                .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)
+                .map(|p| p.y)
+                .collect();
+            ys.sort_by(f64::total_cmp);
+            ys
+        };
+        let near = |ys: Vec<f64>, expected: &[f64]| {
+            ys.len() == expected.len() && ys.iter().zip(expected).all(|(y, e)| (y - e).abs() < 1e-6)
+        };
+        let regions = |second_top: u32| {
+            let (first, second) = tops(second_top);
+            let top = first.facets.iter().find(|f| f.normal == DVec3::Z).unwrap().clone();
+            outside_others(&top, 0, &[first, second], tol).len()
+        };
+        assert_eq!(regions(7), 1);
+        assert!(regions(8) > 1);
+        assert!(near(samples_on_the_wall(7), &[1.0]), "{:?}", samples_on_the_wall(7));
+        assert!(
+            near(samples_on_the_wall(8), &[0.5, 1.5]),
+            "{:?}",
+            samples_on_the_wall(8)
+        );
+    }
+
+    /// The L-block's convex pieces name its faces: a face of a piece names the block's
+    /// face in its plane when it lies wholly in it, a face split between two pieces is
+    /// named by both, and a face left unnamed is one a cut between the pieces extends
+    /// (the piece's face in its plane reaches off it).
+    #[test]
+    fn the_faces_of_the_l_blocks_pieces_name_the_blocks_faces() {
+        let (block, _) = crate::examples::l_block_and_box();
+        let eps = 1e-9 * block.bounds().diagonal();
+        let mut named: std::collections::BTreeMap<ElementId, usize> = Default::default();
+        let mut extended = Vec::new();
+        for polytope in block.convex_pieces() {
+            let piece = Piece::new(&block, polytope, &DAffine3::IDENTITY, eps);
+            for &n in &piece.normals {
+                let h = piece.support(n);
+                let support: Vec<usize> = (0..piece.vertices.len())
+                    .filter(|&i| n.dot(piece.vertices[i]) >= h - eps)
+                    .collect();
+                for (f, face) in block.faces().iter().enumerate() {
+                    let id = ElementId::Face(FaceId(f as u32));
+                    let in_plane = face.normal.dot(n) > 1.0 - 1e-12 && (face.offset - h).abs() <= eps;
+                    if in_plane && support.iter().any(|&i| !piece.holders[i].contains(&id)) {
+                        extended.push(id);
+                    }
+                }
+                match common_element(&piece.holders, &support) {
+                    Some(ElementId::Face(f)) => {
+                        let face = block.face(f);
+                        assert!(face.normal.dot(n) > 1.0 - 1e-12 && (face.offset - h).abs() <= eps);
+                        *named.entry(ElementId::Face(f)).or_default() += 1;
+                    }
+                    Some(other) => panic!("a piece's face names {other:?}"),
+                    // A cut between pieces: its corners lie on several faces.
+                    None => {}
+                }
+            }
+        }
+        for f in 0..block.faces().len() {
+            let id = ElementId::Face(FaceId(f as u32));
+            assert!(named.contains_key(&id) || extended.contains(&id), "{id:?}: {named:?}");
+        }
+        assert!(named.values().any(|&k| k == 2), "{named:?}");
     }
 
     #[test]
