@@ -600,3 +600,39 @@ fn the_sweep_parts_a_stretch_where_a_coplanar_facet_ends() {
     );
     assert!(bounds.contains(pose, 1e-12, 1e-12));
 }
+
+/// A vertical edge of the peg crossing the top edge of the plain hole's wall x = 35,
+/// alone: it cannot be, as the edge then lies in the wall's plane below the rim and
+/// its lower end over the wall (the pair a witness must keep apart). In boxes of poses
+/// along a band where that end lies on the wall's diagonal (its triangulation's shared
+/// side), the prover used to read the end as off both triangles and left the boxes
+/// open; the wall is convex and is now tested as one polygon. Every box of the band is
+/// excluded. (Four such candidates were the plain hole's last undecided at yaw ±2°.)
+#[test]
+fn an_edge_end_on_a_walls_diagonal_is_not_off_the_wall() {
+    let (block, peg) = (load("block_with_hole.off"), load("peg.off"));
+    let rim = edge_where(&block, DVec3::new(35.0, 35.0, 50.0), DVec3::new(35.0, 65.0, 50.0));
+    let side = edge_where(&peg, DVec3::new(36.0, 64.0, 10.0), DVec3::new(36.0, 64.0, 90.0));
+    let target = [PrincipalContact {
+        fixed: rim,
+        moving: side,
+        kind: ContactKind::EdgeEdge,
+    }];
+    let bounds = acsg::task::bounds_from_spec("x=-2:2,y=-2:2,z=0:45,rz=-2:2").unwrap();
+    let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+    // The band: the peg pushed against the wall at a yaw of 1.837°, its lower end
+    // 2.5 to 2.75 mm below the rim; boxes of 0.12 mm in y across it.
+    let (x, rz) = ([1.069_737_8, 1.071_136_5], [0.032_056_18, 0.032_077_61]);
+    for k in 0..4 {
+        let y = -1.877 + 0.1225 * f64::from(k);
+        let b = Bounds::try_new(
+            [x[0], y, 37.25, 0.0, 0.0, rz[0]],
+            [x[1], y + 0.1225, 37.5, 0.0, 0.0, rz[1]],
+        )
+        .unwrap();
+        assert!(
+            problem.exclusion(&target, &b).is_some(),
+            "the box at y = {y} is left open"
+        );
+    }
+}

@@ -23,6 +23,7 @@ mod linearised;
 
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
+use crate::geometry::newell;
 use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use crate::pose::Bounds;
 use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
@@ -139,8 +140,11 @@ struct Shape {
     pieces: Vec<Vec<(DVec3, f64)>>,
     /// Per convex piece: its bounding box (a point outside it is outside the piece).
     piece_boxes: Vec<(DVec3, DVec3)>,
-    /// Per face: its triangles (convex parts of the face, for "lies over the face").
-    triangles: Vec<Vec<[DVec3; 3]>>,
+    /// Per face: convex polygons covering it, for "lies over the face": the face's
+    /// outline when it is convex, else its triangles. (A point on a diagonal between
+    /// two triangles lies on the side of neither: with the outline, a convex face
+    /// has no such inner sides.)
+    convex_parts: Vec<Vec<Vec<DVec3>>>,
 }
 
 impl Shape {
@@ -167,14 +171,17 @@ impl Shape {
                 .iter()
                 .map(|piece| bounds_of(piece.vertices().iter().map(|&v| frame.transform_point3(v))))
                 .collect(),
-            triangles: part
+            convex_parts: part
                 .faces()
                 .iter()
-                .map(|f| {
-                    f.triangles
-                        .iter()
-                        .map(|t| t.map(|v| frame.transform_point3(part.vertex(v).position)))
-                        .collect()
+                .enumerate()
+                .map(|(id, f)| {
+                    let at = |v: VertexId| frame.transform_point3(part.vertex(v).position);
+                    if f.holes().is_empty() && !part.face_outline_is_nonconvex(FaceId(id as u32)) {
+                        vec![f.outer().vertices.iter().map(|&v| at(v)).collect()]
+                    } else {
+                        f.triangles.iter().map(|t| t.map(at).to_vec()).collect()
+                    }
                 })
                 .collect(),
         }
@@ -683,7 +690,7 @@ impl<'a> Prover<'a> {
                     let rw = moved[vertex];
                     let p = add(rw, *t);
                     let h = dot(point(n), p).sub(Interval::point(d));
-                    if h.lo >= m || h.hi <= -m || !over_face(&self.a.triangles[face], n, &p, self.slack) {
+                    if h.lo >= m || h.hi <= -m || !over_face(&self.a.convex_parts[face], n, &p, self.slack) {
                         continue;
                     }
                     let n_rw = dot(point(n), rw);
@@ -715,7 +722,7 @@ impl<'a> Prover<'a> {
                     let q: IVec = std::array::from_fn(|k| {
                         (0..3).fold(Interval::point(0.0), |acc, j| acc.add(r[j][k].mul(from_t[j])))
                     });
-                    if !over_face(&self.b.triangles[face], mn, &q, self.slack) {
+                    if !over_face(&self.b.convex_parts[face], mn, &q, self.slack) {
                         continue;
                     }
                     let ua = dot(u, a);
@@ -833,10 +840,10 @@ fn outside_some<P>(
 }
 
 /// Whether every point of a box projects, along the face normal `n`, into one of a
-/// face's triangles, at least `margin` inside it (a vertex on the face's boundary
+/// face's convex parts, at least `margin` inside it (a vertex on the face's boundary
 /// touches the face's closure, not the face: it is no gap a witness must keep; one
 /// more than the contact tolerance inside is a gap, or touches the face itself).
-fn over_face(triangles: &[[DVec3; 3]], n: DVec3, p: &IVec, margin: f64) -> bool {
+fn over_face(parts: &[Vec<DVec3>], n: DVec3, p: &IVec, margin: f64) -> bool {
     let corners: Vec<DVec3> = (0..8)
         .map(|c| {
             DVec3::new(
@@ -849,15 +856,17 @@ fn over_face(triangles: &[[DVec3; 3]], n: DVec3, p: &IVec, margin: f64) -> bool 
     if corners.iter().any(|c| !c.is_finite()) {
         return false;
     }
-    triangles.iter().any(|&[a, b, c]| {
-        let normal = (b - a).cross(c - a);
-        let sign = normal.dot(n).signum();
-        corners.iter().all(|&q| {
-            [(a, b), (b, c), (c, a)]
-                .iter()
-                .all(|&(x, y)| (y - x).cross(q - x).dot(n) * sign >= margin * x.distance(y))
-        })
+    parts.iter().any(|polygon| {
+        let sign = newell(polygon.iter().copied()).dot(n).signum();
+        corners
+            .iter()
+            .all(|&q| sides(polygon).all(|(x, y)| (y - x).cross(q - x).dot(n) * sign >= margin * x.distance(y)))
     })
+}
+
+/// The sides of a closed polygon, each as its two ends in order.
+fn sides(polygon: &[DVec3]) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
+    (0..polygon.len()).map(|i| (polygon[i], polygon[(i + 1) % polygon.len()]))
 }
 
 /// Narrows `t` by `coeffs · t ∈ range`; `None` when no `t` in the box satisfies it.

@@ -13,9 +13,10 @@
 
 use glam::{DMat3, DVec3};
 
-use super::{Apart, IVec, Link, Prover, over_face};
+use super::{Apart, IVec, Link, Prover, over_face, sides};
 use crate::feasibility::interval::Interval;
 use crate::feasibility::lp::{self, Row, VARS};
+use crate::geometry::newell;
 use crate::pose::Bounds;
 
 /// Above this sum of the rotation box's half-widths the remainder is mostly too
@@ -379,13 +380,13 @@ impl Linearised<'_, '_> {
                     true,
                     self.prover.b.vertices[vertex],
                     self.prover.a.planes[face],
-                    &self.prover.a.triangles[face],
+                    &self.prover.a.convex_parts[face],
                 ),
                 Apart::MovingFace { face, vertex } => (
                     false,
                     self.prover.a.vertices[vertex],
                     self.prover.b.planes[face],
-                    &self.prover.b.triangles[face],
+                    &self.prover.b.convex_parts[face],
                 ),
             };
             self.apart_from_face(moving, vertex, face, triangles);
@@ -395,9 +396,9 @@ impl Linearised<'_, '_> {
     /// A point of one part (the moving part's when `moving`) that a witness keeps off a
     /// face of the other: where it lies over the face, at least the margin off the
     /// face's plane. When the box does not decide whether it lies over the face, each
-    /// of the face's triangles gives the cases: outside one of its sides, or the margin
-    /// above or below.
-    fn apart_from_face(&mut self, moving: bool, p: DVec3, face: (DVec3, f64), triangles: &[[DVec3; 3]]) {
+    /// of the face's convex parts gives the cases: outside one of its sides, or the
+    /// margin above or below.
+    fn apart_from_face(&mut self, moving: bool, p: DVec3, face: (DVec3, f64), parts: &[Vec<DVec3>]) {
         let (m, s) = (self.prover.margin, self.prover.slack);
         // Most pairs are far apart: a cheap hull of the height's range settles them
         // before the linear form is built (it holds that range, so the same pairs go).
@@ -423,18 +424,18 @@ impl Linearised<'_, '_> {
         if range.lo < -m {
             off.push(vec![below]);
         }
-        if over_face(triangles, face.0, &self.position(moving, p), s) {
+        if over_face(parts, face.0, &self.position(moving, p), s) {
             match off.len() {
                 1 => self.rows.extend(off.pop().unwrap_or_default()),
                 _ => self.either.push(off),
             }
             return;
         }
-        for &[a, b, c] in triangles {
-            let sign = (b - a).cross(c - a).dot(face.0).signum();
+        for polygon in parts {
+            let sign = newell(polygon.iter().copied()).dot(face.0).signum();
             let mut cases = off.clone();
             let mut surely_outside = false;
-            for (x, y) in [(a, b), (b, c), (c, a)] {
+            for (x, y) in sides(polygon) {
                 // Depth inside this side, in the face's plane.
                 let inward = sign * face.0.cross(y - x) / x.distance(y);
                 let depth = self.height(moving, p, (inward, inward.dot(x)));
