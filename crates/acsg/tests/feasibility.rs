@@ -636,3 +636,72 @@ fn an_edge_end_on_a_walls_diagonal_is_not_off_the_wall() {
         );
     }
 }
+
+/// An end of the box's edge a quarter of the separation off the L-block's L-shaped
+/// face, over the diagonal its triangulation draws inside the face, while the box
+/// turns about the face's normal: no robust witness of any state has the end there (it
+/// would read as touching the face), so the box of such poses is excluded. The prover
+/// used to read a point on that diagonal as off both triangles (outside each by one of
+/// its sides) and left such boxes open; a point that no contact holds near the face's
+/// rim is now off a triangle across a side inside the face only by a clearance the
+/// separation sets, which no point inside the face is. Three separations off, the same
+/// box is not excluded.
+#[test]
+fn an_edge_end_over_the_diagonal_of_a_non_convex_face_is_not_off_the_face() {
+    let (block, cube) = acsg::examples::l_block_and_box();
+    // The block's face y = 0, an L: the bar x 0..200, z 0..50, the upright x 150..200.
+    let l_face = match face_at(&block, -DVec3::Y, DVec3::new(100.0, 0.0, 25.0)) {
+        ElementId::Face(f) => f,
+        other => panic!("{other:?}"),
+    };
+    // A side two of its triangles share: inside the face, on no edge of it.
+    let triangles = &block.faces()[l_face.index()].triangles;
+    let sides: Vec<[VertexId; 2]> = triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| [t[k], t[(k + 1) % 3]]))
+        .collect();
+    let [a, b] = *sides
+        .iter()
+        .find(|[a, b]| sides.contains(&[*b, *a]))
+        .expect("an L is cut by an inner diagonal");
+    let middle = 0.5 * (block.vertex(a).position + block.vertex(b).position);
+    // The box tipped about x by 45°: its edge along x in front leads towards the face
+    // (+y). One end of it a quarter of the separation in front of the diagonal's
+    // middle, the other off the face (the L's notch or beyond its ends).
+    let tip = -std::f64::consts::FRAC_PI_4;
+    let r = Pose::from_array([0.0, 0.0, 0.0, tip, 0.0, 0.0]).rotation();
+    let mut ahead: Vec<DVec3> = cube.vertices().iter().map(|v| r * v.position).collect();
+    ahead.sort_by(|p, q| q.y.total_cmp(&p.y).then(p.x.total_cmp(&q.x)));
+    assert!(ahead[1].y - ahead[2].y > 10.0, "one edge leads: {ahead:?}");
+    let on_l = |p: DVec3| {
+        (0.0..=200.0).contains(&p.x) && (0.0..=50.0).contains(&p.z)
+            || (150.0..=200.0).contains(&p.x) && (50.0..=150.0).contains(&p.z)
+    };
+    let along = ahead[1] - ahead[0];
+    let (end, other) = if on_l(middle + along) {
+        (ahead[1], middle - along)
+    } else {
+        (ahead[0], middle + along)
+    };
+    assert!(!on_l(other), "the edge's other end {other} is off the face");
+    let scale = ContactScene::new(&block, &cube).scale();
+    // Translations 1e-4 L across the diagonal and turns about y (the face's normal,
+    // which keep every point's y): over the box the end sweeps several separations
+    // along the face, too far for the tests at the box's corners, and stays the same
+    // gap in front of it.
+    let (w, h, turn) = (1e-4 * scale, 0.1 * SEPARATION_REL * scale, 1e-5);
+    let in_front = |separations: f64| {
+        let t = middle - DVec3::new(0.0, separations * SEPARATION_REL * scale, 0.0) - end;
+        Bounds::try_new(
+            [t.x - w, t.y - h, t.z - w, tip, -turn, 0.0],
+            [t.x + w, t.y + h, t.z + w, tip, turn, 0.0],
+        )
+        .unwrap()
+    };
+    let (near, clear) = (in_front(0.25), in_front(3.0));
+    let (lo, hi) = (clear.min.to_array(), near.max.to_array());
+    let problem = Problem::new(&block, &cube, Bounds::try_new(lo, hi).unwrap(), DAffine3::IDENTITY);
+    assert!(problem.exclusion(&[], &near).is_some(), "the box is left open");
+    // Three separations off, the free state holds.
+    assert_eq!(problem.exclusion(&[], &clear), None);
+}

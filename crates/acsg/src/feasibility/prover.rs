@@ -54,6 +54,8 @@ enum Link {
 pub(crate) struct Links {
     links: Vec<Link>,
     apart: Vec<Apart>,
+    /// The rim pieces ([`Apart`]'s `held_rim`) that a contact may hold a vertex at.
+    held_rims: Vec<Vec<[DVec3; 2]>>,
     straddles: Vec<Straddle>,
 }
 
@@ -84,12 +86,27 @@ struct Straddle {
 /// they are neither a listed contact nor parts of one, so when the vertex lies over the
 /// face it is at least the separation off the face's plane, on either side (closer is
 /// a pair closer than a witness allows, touching is another contact).
+///
+/// `held_rim`: the pieces of the face's rim (edges, corners as points, in
+/// [`Links::held_rims`]) in the closure of an element on which a contact of the target
+/// holds the vertex (a neighbouring face, a rim edge or corner). Near such a piece a
+/// checker reads the vertex as touching that edge or corner, a touch the contact may
+/// hold (the principal rule); anywhere else within the separation of the face, it
+/// reads a touch no contact holds.
 #[derive(Clone, Copy, Debug)]
 enum Apart {
     /// A face of the fixed part and a vertex of the moving part.
-    FixedFace { face: usize, vertex: usize },
+    FixedFace {
+        face: usize,
+        vertex: usize,
+        held_rim: Option<usize>,
+    },
     /// A face of the moving part and a vertex of the fixed part.
-    MovingFace { face: usize, vertex: usize },
+    MovingFace {
+        face: usize,
+        vertex: usize,
+        held_rim: Option<usize>,
+    },
 }
 
 /// Points of edges inside a piece of the other part.
@@ -141,10 +158,8 @@ struct Shape {
     /// Per convex piece: its bounding box (a point outside it is outside the piece).
     piece_boxes: Vec<(DVec3, DVec3)>,
     /// Per face: convex polygons covering it, for "lies over the face": the face's
-    /// outline when it is convex, else its triangles. (A point on a diagonal between
-    /// two triangles lies on the side of neither: with the outline, a convex face
-    /// has no such inner sides.)
-    convex_parts: Vec<Vec<Vec<DVec3>>>,
+    /// outline when it is convex, else its triangles.
+    convex_parts: Vec<Vec<ConvexPart>>,
 }
 
 impl Shape {
@@ -178,14 +193,125 @@ impl Shape {
                 .map(|(id, f)| {
                     let at = |v: VertexId| frame.transform_point3(part.vertex(v).position);
                     if f.holes().is_empty() && !part.face_outline_is_nonconvex(FaceId(id as u32)) {
-                        vec![f.outer().vertices.iter().map(|&v| at(v)).collect()]
+                        let outline = &f.outer().vertices;
+                        vec![ConvexPart::new(
+                            outline.iter().map(|&v| at(v)).collect(),
+                            vec![false; outline.len()],
+                        )]
                     } else {
-                        f.triangles.iter().map(|t| t.map(at).to_vec()).collect()
+                        triangle_cover(&f.triangles, at)
                     }
                 })
                 .collect(),
         }
     }
+}
+
+/// A convex polygon of a face's cover.
+pub(super) struct ConvexPart {
+    corners: Vec<DVec3>,
+    /// Per side (from corner `k` to `k + 1`): whether it lies inside the face (a
+    /// diagonal another triangle of the cover shares), not on its rim.
+    inner: Vec<bool>,
+    /// `sin(α/2)` for its sharpest corner angle α: a point at distance `D` from the
+    /// polygon, in its plane, lies at least `D · sin(α/2)` outside one of its sides.
+    sharpest: f64,
+}
+
+impl ConvexPart {
+    fn new(corners: Vec<DVec3>, inner: Vec<bool>) -> ConvexPart {
+        let k = corners.len();
+        let sharpest = (0..k)
+            .map(|i| {
+                let (prev, at, next) = (corners[(i + k - 1) % k], corners[i], corners[(i + 1) % k]);
+                let angle = (prev - at).angle_between(next - at);
+                (0.5 * angle).sin()
+            })
+            .fold(1.0, f64::min);
+        ConvexPart {
+            corners,
+            inner,
+            sharpest: if sharpest.is_finite() { sharpest.max(0.0) } else { 0.0 },
+        }
+    }
+}
+
+/// A face's cover by its triangles, each side marked inner when another triangle
+/// runs it the other way.
+fn triangle_cover(triangles: &[[VertexId; 3]], at: impl Fn(VertexId) -> DVec3) -> Vec<ConvexPart> {
+    let shared = |a: VertexId, b: VertexId| {
+        triangles
+            .iter()
+            .any(|t| (0..3).any(|k| t[k] == b && t[(k + 1) % 3] == a))
+    };
+    triangles
+        .iter()
+        .map(|t| {
+            let inner = (0..3).map(|k| shared(t[k], t[(k + 1) % 3])).collect();
+            ConvexPart::new(t.map(&at).to_vec(), inner)
+        })
+        .collect()
+}
+
+/// The elements of the other part on which the target's contacts hold `vertex` (an
+/// element of `part`); `sides` gives a contact's (this part's, the other part's)
+/// elements.
+fn holders_of(
+    target: &[PrincipalContact],
+    vertex: ElementId,
+    sides: impl Fn(&PrincipalContact) -> (ElementId, ElementId),
+    part: &Part,
+) -> Vec<ElementId> {
+    target
+        .iter()
+        .map(sides)
+        .filter(|&(on, _)| part.in_closure(on, vertex))
+        .map(|(_, holder)| holder)
+        .collect()
+}
+
+/// The pieces of a face's rim in the closure of one of `holders` (elements of the
+/// face's part), as segments of `shape` (a corner as a segment of length zero), pushed
+/// onto `rims`; their index there, `None` when there are none.
+fn held_rim(
+    part: &Part,
+    shape: &Shape,
+    holders: &[ElementId],
+    face: FaceId,
+    rims: &mut Vec<Vec<[DVec3; 2]>>,
+) -> Option<usize> {
+    if holders.is_empty() {
+        return None;
+    }
+    let held = |x: ElementId| holders.iter().any(|&h| part.in_closure(h, x));
+    let face = ElementId::Face(face);
+    let edges = part
+        .closure_edges(face)
+        .into_iter()
+        .filter(|&e| held(ElementId::Edge(e)))
+        .map(|e| part.edge(e).vertices.map(|v| shape.vertices[v.index()]));
+    let corners = part
+        .closure_vertices(face)
+        .into_iter()
+        .filter(|&v| held(ElementId::Vertex(v)))
+        .map(|v| [shape.vertices[v.index()]; 2]);
+    let pieces: Vec<[DVec3; 2]> = edges.chain(corners).collect();
+    if pieces.is_empty() {
+        return None;
+    }
+    rims.push(pieces);
+    Some(rims.len() - 1)
+}
+
+/// Whether every point of a box is farther than `distance` from every segment.
+pub(super) fn clear_of(segments: &[[DVec3; 2]], p: &IVec, distance: f64) -> bool {
+    segments.iter().all(|[a, b]| {
+        let (lo, hi) = (a.min(*b), a.max(*b));
+        let gap: f64 = (0..3)
+            .map(|k| (lo[k] - p[k].hi).max(p[k].lo - hi[k]).max(0.0).powi(2))
+            .sum();
+        gap > distance * distance
+    })
 }
 
 /// The prover for one pair of parts, bounds and assembled pose.
@@ -278,32 +404,34 @@ impl<'a> Prover<'a> {
     pub fn links(&self, target: &[PrincipalContact]) -> Option<Links> {
         let links = self.link_list(target)?;
         let implied = |a: ElementId, b: ElementId| implied(self.fixed, self.moving, target, a, b);
+        let mut held_rims = Vec::new();
         let mut apart = Vec::new();
-        for face in 0..self.fixed.faces().len() {
-            for vertex in 0..self.moving.vertices().len() {
-                let (a, b) = (
-                    ElementId::Face(FaceId(face as u32)),
-                    ElementId::Vertex(VertexId(vertex as u32)),
-                );
+        for vertex in 0..self.moving.vertices().len() {
+            let b = ElementId::Vertex(VertexId(vertex as u32));
+            let holders = holders_of(target, b, |pc| (pc.moving, pc.fixed), self.moving);
+            for face in 0..self.fixed.faces().len() {
+                let a = ElementId::Face(FaceId(face as u32));
                 if !implied(a, b) {
-                    apart.push(Apart::FixedFace { face, vertex });
+                    let held_rim = held_rim(self.fixed, &self.a, &holders, FaceId(face as u32), &mut held_rims);
+                    apart.push(Apart::FixedFace { face, vertex, held_rim });
                 }
             }
         }
-        for face in 0..self.moving.faces().len() {
-            for vertex in 0..self.fixed.vertices().len() {
-                let (a, b) = (
-                    ElementId::Vertex(VertexId(vertex as u32)),
-                    ElementId::Face(FaceId(face as u32)),
-                );
+        for vertex in 0..self.fixed.vertices().len() {
+            let a = ElementId::Vertex(VertexId(vertex as u32));
+            let holders = holders_of(target, a, |pc| (pc.fixed, pc.moving), self.fixed);
+            for face in 0..self.moving.faces().len() {
+                let b = ElementId::Face(FaceId(face as u32));
                 if !implied(a, b) {
-                    apart.push(Apart::MovingFace { face, vertex });
+                    let held_rim = held_rim(self.moving, &self.b, &holders, FaceId(face as u32), &mut held_rims);
+                    apart.push(Apart::MovingFace { face, vertex, held_rim });
                 }
             }
         }
         Some(Links {
             links,
             apart,
+            held_rims,
             straddles: self.straddles(target),
         })
     }
@@ -685,7 +813,7 @@ impl<'a> Prover<'a> {
         let m = self.margin;
         for pair in apart {
             match *pair {
-                Apart::FixedFace { face, vertex } => {
+                Apart::FixedFace { face, vertex, .. } => {
                     let (n, d) = self.a.planes[face];
                     let rw = moved[vertex];
                     let p = add(rw, *t);
@@ -709,7 +837,7 @@ impl<'a> Prover<'a> {
                         t,
                     )?;
                 }
-                Apart::MovingFace { face, vertex } => {
+                Apart::MovingFace { face, vertex, .. } => {
                     let (mn, e) = self.b.planes[face];
                     let u = normals[face];
                     let a = point(self.a.vertices[vertex]);
@@ -843,7 +971,7 @@ fn outside_some<P>(
 /// face's convex parts, at least `margin` inside it (a vertex on the face's boundary
 /// touches the face's closure, not the face: it is no gap a witness must keep; one
 /// more than the contact tolerance inside is a gap, or touches the face itself).
-fn over_face(parts: &[Vec<DVec3>], n: DVec3, p: &IVec, margin: f64) -> bool {
+fn over_face(parts: &[ConvexPart], n: DVec3, p: &IVec, margin: f64) -> bool {
     let corners: Vec<DVec3> = (0..8)
         .map(|c| {
             DVec3::new(
@@ -856,7 +984,7 @@ fn over_face(parts: &[Vec<DVec3>], n: DVec3, p: &IVec, margin: f64) -> bool {
     if corners.iter().any(|c| !c.is_finite()) {
         return false;
     }
-    parts.iter().any(|polygon| {
+    parts.iter().map(|part| &part.corners[..]).any(|polygon| {
         let sign = newell(polygon.iter().copied()).dot(n).signum();
         corners
             .iter()
@@ -956,6 +1084,27 @@ mod tests {
             .join("../../fixtures")
             .join(name);
         Part::from_path(&path).unwrap()
+    }
+
+    #[test]
+    fn a_convex_part_knows_its_sharpest_corner_and_a_box_its_distance_from_a_rim() {
+        let square = ConvexPart::new(
+            vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y],
+            vec![false; 4],
+        );
+        assert!((square.sharpest - std::f64::consts::FRAC_PI_4.sin()).abs() < 1e-12);
+        // A right triangle with legs 1 and 2: its sharpest corner is atan(1/2).
+        let thin = ConvexPart::new(vec![DVec3::ZERO, 2.0 * DVec3::X, DVec3::Y], vec![false; 3]);
+        assert!((thin.sharpest - (0.5 * 0.5_f64.atan()).sin()).abs() < 1e-12);
+        // A point 3 above the middle of a unit segment along x, boxed by ±0.5.
+        let rim = [[DVec3::ZERO, DVec3::X]];
+        let p = [
+            Interval::new(0.0, 1.0),
+            Interval::new(-0.5, 0.5),
+            Interval::new(2.5, 3.5),
+        ];
+        assert!(clear_of(&rim, &p, 2.4));
+        assert!(!clear_of(&rim, &p, 2.6));
     }
 
     /// The box of poses within `eps` of a pose.

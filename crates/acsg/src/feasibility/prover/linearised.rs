@@ -13,7 +13,17 @@
 
 use glam::{DMat3, DVec3};
 
-use super::{Apart, IVec, Link, Prover, over_face, sides};
+use super::{Apart, ConvexPart, IVec, Link, Prover, over_face, sides};
+
+/// A face as [`Linearised::apart_from_face`] tests a point against it: its plane, a
+/// cover of it by convex parts, and its rim.
+struct Cover<'s> {
+    plane: (DVec3, f64),
+    parts: &'s [ConvexPart],
+    /// The pieces of the rim the point must keep clear of for the clearance to hold
+    /// (those a contact may hold it at).
+    rims: &'s [[DVec3; 2]],
+}
 use crate::feasibility::interval::Interval;
 use crate::feasibility::lp::{self, Row, VARS};
 use crate::geometry::newell;
@@ -375,21 +385,20 @@ impl Linearised<'_, '_> {
     /// the margin off its plane, on one side or the other.
     fn kept_apart(&mut self, links: &super::Links) {
         for pair in &links.apart {
-            let (moving, vertex, face, triangles) = match *pair {
-                Apart::FixedFace { face, vertex } => (
-                    true,
-                    self.prover.b.vertices[vertex],
-                    self.prover.a.planes[face],
-                    &self.prover.a.convex_parts[face],
-                ),
-                Apart::MovingFace { face, vertex } => (
-                    false,
-                    self.prover.a.vertices[vertex],
-                    self.prover.b.planes[face],
-                    &self.prover.b.convex_parts[face],
-                ),
+            let (moving, vertex, shape, face, held_rim) = match *pair {
+                Apart::FixedFace { face, vertex, held_rim } => {
+                    (true, self.prover.b.vertices[vertex], &self.prover.a, face, held_rim)
+                }
+                Apart::MovingFace { face, vertex, held_rim } => {
+                    (false, self.prover.a.vertices[vertex], &self.prover.b, face, held_rim)
+                }
             };
-            self.apart_from_face(moving, vertex, face, triangles);
+            let cover = Cover {
+                plane: shape.planes[face],
+                parts: &shape.convex_parts[face],
+                rims: held_rim.map_or(&[][..], |k| &links.held_rims[k]),
+            };
+            self.apart_from_face(moving, vertex, &cover);
         }
     }
 
@@ -398,7 +407,16 @@ impl Linearised<'_, '_> {
     /// face's plane. When the box does not decide whether it lies over the face, each
     /// of the face's convex parts gives the cases: outside one of its sides, or the
     /// margin above or below.
-    fn apart_from_face(&mut self, moving: bool, p: DVec3, face: (DVec3, f64), parts: &[Vec<DVec3>]) {
+    ///
+    /// A point within the margin of the plane is not over the face at all: a witness
+    /// keeps it at least the loose contact tolerance (1.98 margins) from the face, as
+    /// a checker reads a point that near as touching the face, or near the rim its edge
+    /// or corner. (Unless a contact of the target may hold that edge or corner touching
+    /// the point: `cover.rims` holds them, and the rule applies only away from them.)
+    /// It is then outside a side of each convex part by a clearance, so a point on a
+    /// diagonal two triangles share is outside neither.
+    fn apart_from_face(&mut self, moving: bool, p: DVec3, cover: &Cover) {
+        let face = cover.plane;
         let (m, s) = (self.prover.margin, self.prover.slack);
         // Most pairs are far apart: a cheap hull of the height's range settles them
         // before the linear form is built (it holds that range, so the same pairs go).
@@ -424,26 +442,43 @@ impl Linearised<'_, '_> {
         if range.lo < -m {
             off.push(vec![below]);
         }
-        if over_face(parts, face.0, &self.position(moving, p), s) {
+        let at = self.position(moving, p);
+        if over_face(cover.parts, face.0, &at, s) {
             match off.len() {
                 1 => self.rows.extend(off.pop().unwrap_or_default()),
                 _ => self.either.push(off),
             }
             return;
         }
-        for polygon in parts {
+        // 2.5 margins in space: over 1.98 in the plane, the height being under one.
+        let off_the_rim = super::clear_of(cover.rims, &at, 2.5 * m);
+        for part in cover.parts {
+            let polygon = &part.corners[..];
             let sign = newell(polygon.iter().copied()).dot(face.0).signum();
+            // Outside the face, by 1.98 margins from it: by 1.98 · sin(α/2) (1.5 here)
+            // outside a side; asked of the sides inside the face only (outside a side
+            // on the rim, the point is off the face whatever the clearance).
+            let clearance = if off_the_rim { 1.5 * m * part.sharpest } else { -s };
             let mut cases = off.clone();
             let mut surely_outside = false;
-            for (x, y) in sides(polygon) {
+            for ((x, y), &inner) in sides(polygon).zip(&part.inner) {
                 // Depth inside this side, in the face's plane.
                 let inward = sign * face.0.cross(y - x) / x.distance(y);
                 let depth = self.height(moving, p, (inward, inward.dot(x)));
-                if depth.range(&self.lo, &self.hi).hi <= s {
+                // Wholly outside the side's line (within the slack): the part sets no
+                // condition (the point is over a neighbouring part, which does, or off
+                // the face).
+                let range = depth.range(&self.lo, &self.hi);
+                if range.hi <= s {
                     surely_outside = true;
                     break;
                 }
-                cases.push(vec![depth.row(f64::NEG_INFINITY, s, s)]);
+                let outside = if inner { clearance } else { -s };
+                // A case no point of the box meets costs a programme each time the
+                // cases are tried: left out.
+                if range.lo <= s - outside {
+                    cases.push(vec![depth.row(f64::NEG_INFINITY, -outside, s)]);
+                }
             }
             if !surely_outside {
                 self.either.push(cases);
