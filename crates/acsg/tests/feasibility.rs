@@ -705,3 +705,31 @@ fn an_edge_end_over_the_diagonal_of_a_non_convex_face_is_not_off_the_face() {
     // Three separations off, the free state holds.
     assert_eq!(problem.exclusion(&[], &clear), None);
 }
+
+/// The peg's bottom face on the chamfered block's top face (a face with a hole): over
+/// the bounds x, y ±2 mm, yaw ±2°, the bottom square stays strictly inside the hole's
+/// opening (its corners within 31.8 to 68.2 mm, the opening 30 to 70), so the two
+/// faces share no point and the whole box is excluded at once. The prover used to ask
+/// only that the contact point lie in both faces' bounding boxes, which a face with a
+/// hole fills; the candidate was left undecided. Let the peg reach 8 mm along x and
+/// its bottom can rest on the top face beyond the opening: not excluded.
+#[test]
+fn a_face_inside_the_others_hole_does_not_lie_on_it() {
+    let (block, peg) = (load("block_with_chamfered_hole.off"), load("peg.off"));
+    let top = face_at(&block, DVec3::Z, DVec3::new(10.0, 10.0, 50.0));
+    let bottom = face_at(&peg, -DVec3::Z, DVec3::new(50.0, 50.0, 10.0));
+    let target = [PrincipalContact {
+        fixed: top,
+        moving: bottom,
+        kind: ContactKind::FaceFace,
+    }];
+    let inside = acsg::task::bounds_from_spec("x=-2:2,y=-2:2,z=0:45,rz=-2:2").unwrap();
+    let problem = Problem::new(&block, &peg, inside, DAffine3::IDENTITY);
+    assert!(
+        problem.exclusion(&target, &inside).is_some(),
+        "the bounds are left open"
+    );
+    let reaching = acsg::task::bounds_from_spec("x=-2:8,y=-2:2,z=0:45,rz=-2:2").unwrap();
+    let problem = Problem::new(&block, &peg, reaching, DAffine3::IDENTITY);
+    assert_eq!(problem.exclusion(&target, &reaching), None);
+}

@@ -57,6 +57,17 @@ pub(crate) struct Links {
     /// The rim pieces ([`Apart`]'s `held_rim`) that a contact may hold a vertex at.
     held_rims: Vec<Vec<[DVec3; 2]>>,
     straddles: Vec<Straddle>,
+    /// The contacts along a segment or over an area (f-f, f-e, e-f), as the indices
+    /// of their elements: their two elements must overlap.
+    overlaps: Vec<Overlap>,
+}
+
+/// A contact along a segment or over an area: some point lies in both elements, so
+/// the convex hulls of some convex part of each meet.
+#[derive(Clone, Copy, Debug)]
+struct Overlap {
+    fixed: ElementId,
+    moving: ElementId,
 }
 
 impl Links {
@@ -428,10 +439,24 @@ impl<'a> Prover<'a> {
                 }
             }
         }
+        let overlaps = target
+            .iter()
+            .filter(|pc| {
+                matches!(
+                    pc.kind,
+                    ContactKind::FaceFace | ContactKind::FaceEdge | ContactKind::EdgeFace
+                )
+            })
+            .map(|pc| Overlap {
+                fixed: pc.fixed,
+                moving: pc.moving,
+            })
+            .collect();
         Some(Links {
             links,
             apart,
             held_rims,
+            overlaps,
             straddles: self.straddles(target),
         })
     }
@@ -649,7 +674,66 @@ impl<'a> Prover<'a> {
                 break;
             }
         }
+        if !links.overlaps.iter().all(|o| self.may_overlap(o, &turned.r, &t)) {
+            return None;
+        }
         Some(with_translation(bounds, &t))
+    }
+
+    /// Whether the two elements of a contact along a segment or over an area may
+    /// share a point somewhere in the box: false when, for every convex part of each,
+    /// a side of one has every corner of the other strictly outside it (the line of
+    /// that side then separates the parts). Each element is taken as the convex parts
+    /// of its face, or its edge as a part of two corners.
+    fn may_overlap(&self, overlap: &Overlap, r: &IntervalMat, t: &IVec) -> bool {
+        let s = self.slack;
+        let parts = |part: &Part, shape: &Shape, e: ElementId| -> Vec<Vec<DVec3>> {
+            match e {
+                ElementId::Face(f) => shape.convex_parts[f.index()]
+                    .iter()
+                    .map(|c| c.corners.clone())
+                    .collect(),
+                ElementId::Edge(x) => vec![part.edge(x).vertices.map(|v| shape.vertices[v.index()]).to_vec()],
+                ElementId::Vertex(v) => vec![vec![shape.vertices[v.index()]]],
+            }
+        };
+        let (fixed, moving) = (
+            parts(self.fixed, &self.a, overlap.fixed),
+            parts(self.moving, &self.b, overlap.moving),
+        );
+        let plane_of = |shape: &Shape, e: ElementId| match e {
+            ElementId::Face(f) => Some(shape.planes[f.index()].0),
+            _ => None,
+        };
+        // The moving part's corners in G's frame, the fixed part's in the moving
+        // part's frame (R⁻¹ = Rᵀ).
+        let rt: IntervalMat = std::array::from_fn(|i| std::array::from_fn(|j| r[j][i]));
+        let placed = |q: DVec3| add(mat_vec(r, q), *t);
+        let brought_back = |p: DVec3| {
+            let d = sub(point(p), *t);
+            std::array::from_fn(|i| dot(rt[i], d))
+        };
+        // Some side of `polygon` (in a face of normal `n`) has every point strictly
+        // outside it.
+        let separates = |polygon: &[DVec3], n: DVec3, others: &[IVec]| {
+            polygon.len() >= 3
+                && sides(polygon).any(|(x, y)| {
+                    let sign = newell(polygon.iter().copied()).dot(n).signum();
+                    let inward = sign * n.cross(y - x) / x.distance(y);
+                    others.iter().all(|q| dot(point(inward), *q).hi < inward.dot(x) - s)
+                })
+        };
+        let fixed_normal = plane_of(&self.a, overlap.fixed);
+        let moving_normal = plane_of(&self.b, overlap.moving);
+        fixed.iter().any(|p| {
+            moving.iter().any(|q| {
+                let q_placed: Vec<IVec> = q.iter().map(|&c| placed(c)).collect();
+                let p_back: Vec<IVec> = p.iter().map(|&c| brought_back(c)).collect();
+                let apart = fixed_normal.is_some_and(|n| separates(p, n, &q_placed))
+                    || moving_normal.is_some_and(|n| separates(q, n, &p_back));
+                !apart
+            })
+        })
     }
 
     /// Everything of a box that depends on its rotations only.
