@@ -711,8 +711,9 @@ fn an_edge_end_over_the_diagonal_of_a_non_convex_face_is_not_off_the_face() {
 /// opening (its corners within 31.8 to 68.2 mm, the opening 30 to 70), so the two
 /// faces share no point and the whole box is excluded at once. The prover used to ask
 /// only that the contact point lie in both faces' bounding boxes, which a face with a
-/// hole fills; the candidate was left undecided. Let the peg reach 8 mm along x and
-/// its bottom can rest on the top face beyond the opening: not excluded.
+/// hole fills; the candidate was left undecided. The same for a corner of the bottom
+/// on the top face. Let the peg reach 8 mm along x and its bottom, and that corner, can
+/// rest on the top face beyond the opening: not excluded.
 #[test]
 fn a_face_inside_the_others_hole_does_not_lie_on_it() {
     let (block, peg) = (load("block_with_chamfered_hole.off"), load("peg.off"));
@@ -729,7 +730,25 @@ fn a_face_inside_the_others_hole_does_not_lie_on_it() {
         problem.exclusion(&target, &inside).is_some(),
         "the bounds are left open"
     );
+    // So does a corner of the bottom on the top.
+    let corner = (0..peg.vertices().len() as u32)
+        .map(VertexId)
+        .find(|&v| peg.vertex(v).position.distance(DVec3::new(64.0, 36.0, 10.0)) < 1e-9)
+        .expect("the corner");
+    let on_top = [PrincipalContact {
+        fixed: top,
+        moving: ElementId::Vertex(corner),
+        kind: ContactKind::FaceVertex,
+    }];
+    // (Tilted: with the bottom level, a corner alone cannot touch the top face.)
+    let tilted = acsg::task::bounds_from_spec("x=-2:2,y=-2:2,z=0:45,rx=-1:1,ry=-1:1,rz=-2:2").unwrap();
+    assert!(
+        problem.exclusion(&on_top, &tilted).is_some(),
+        "the tilted bounds are left open"
+    );
     let reaching = acsg::task::bounds_from_spec("x=-2:8,y=-2:2,z=0:45,rz=-2:2").unwrap();
     let problem = Problem::new(&block, &peg, reaching, DAffine3::IDENTITY);
     assert_eq!(problem.exclusion(&target, &reaching), None);
+    let reaching_tilted = acsg::task::bounds_from_spec("x=-2:8,y=-2:2,z=0:45,rx=-1:1,ry=-1:1,rz=-2:2").unwrap();
+    assert_eq!(problem.exclusion(&on_top, &reaching_tilted), None);
 }

@@ -57,13 +57,13 @@ pub(crate) struct Links {
     /// The rim pieces ([`Apart`]'s `held_rim`) that a contact may hold a vertex at.
     held_rims: Vec<Vec<[DVec3; 2]>>,
     straddles: Vec<Straddle>,
-    /// The contacts along a segment or over an area (f-f, f-e, e-f), as the indices
-    /// of their elements: their two elements must overlap.
+    /// The contacts of a vertex on a face, along a segment or over an area (f-v, v-f,
+    /// f-f, f-e, e-f), by their elements: the two elements must share a point.
     overlaps: Vec<Overlap>,
 }
 
-/// A contact along a segment or over an area: some point lies in both elements, so
-/// the convex hulls of some convex part of each meet.
+/// A contact of a vertex on a face, along a segment or over an area: some point lies
+/// in both elements, so the convex hulls of some convex part of each meet.
 #[derive(Clone, Copy, Debug)]
 struct Overlap {
     fixed: ElementId,
@@ -444,7 +444,11 @@ impl<'a> Prover<'a> {
             .filter(|pc| {
                 matches!(
                     pc.kind,
-                    ContactKind::FaceFace | ContactKind::FaceEdge | ContactKind::EdgeFace
+                    ContactKind::FaceFace
+                        | ContactKind::FaceEdge
+                        | ContactKind::EdgeFace
+                        | ContactKind::FaceVertex
+                        | ContactKind::VertexFace
                 )
             })
             .map(|pc| Overlap {
@@ -680,11 +684,11 @@ impl<'a> Prover<'a> {
         Some(with_translation(bounds, &t))
     }
 
-    /// Whether the two elements of a contact along a segment or over an area may
-    /// share a point somewhere in the box: false when, for every convex part of each,
+    /// Whether the two elements of a contact of a vertex on a face, along a segment or
+    /// over an area may share a point somewhere in the box: false when, for every convex part of each,
     /// a side of one has every corner of the other strictly outside it (the line of
     /// that side then separates the parts). Each element is taken as the convex parts
-    /// of its face, or its edge as a part of two corners.
+    /// of its face, its edge as a part of two corners, its vertex as a part of one.
     fn may_overlap(&self, overlap: &Overlap, r: &IntervalMat, t: &IVec) -> bool {
         let s = self.slack;
         let parts = |part: &Part, shape: &Shape, e: ElementId| -> Vec<Vec<DVec3>> {
