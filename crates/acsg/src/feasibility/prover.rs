@@ -685,9 +685,9 @@ impl<'a> Prover<'a> {
     }
 
     /// Whether the two elements of a contact of a vertex on a face, along a segment or
-    /// over an area may share a point somewhere in the box: false when, for every convex part of each,
-    /// a side of one has every corner of the other strictly outside it (the line of
-    /// that side then separates the parts). Each element is taken as the convex parts
+    /// over an area may share a point somewhere in the box: false when, for every
+    /// convex part of each, a side of one has every corner of the other strictly
+    /// outside it (the line of that side then separates the parts). Each element is taken as the convex parts
     /// of its face, its edge as a part of two corners, its vertex as a part of one.
     fn may_overlap(&self, overlap: &Overlap, r: &IntervalMat, t: &IVec) -> bool {
         let s = self.slack;
@@ -720,21 +720,25 @@ impl<'a> Prover<'a> {
         // Some side of `polygon` (in a face of normal `n`) has every point strictly
         // outside it.
         let separates = |polygon: &[DVec3], n: DVec3, others: &[IVec]| {
+            let sign = newell(polygon.iter().copied()).dot(n).signum();
             polygon.len() >= 3
                 && sides(polygon).any(|(x, y)| {
-                    let sign = newell(polygon.iter().copied()).dot(n).signum();
                     let inward = sign * n.cross(y - x) / x.distance(y);
                     others.iter().all(|q| dot(point(inward), *q).hi < inward.dot(x) - s)
                 })
         };
         let fixed_normal = plane_of(&self.a, overlap.fixed);
         let moving_normal = plane_of(&self.b, overlap.moving);
-        fixed.iter().any(|p| {
-            moving.iter().any(|q| {
-                let q_placed: Vec<IVec> = q.iter().map(|&c| placed(c)).collect();
-                let p_back: Vec<IVec> = p.iter().map(|&c| brought_back(c)).collect();
-                let apart = fixed_normal.is_some_and(|n| separates(p, n, &q_placed))
-                    || moving_normal.is_some_and(|n| separates(q, n, &p_back));
+        // Each part's corners carried to the other frame once, not once per pair.
+        let moving_placed: Vec<Vec<IVec>> = moving.iter().map(|q| q.iter().map(|&c| placed(c)).collect()).collect();
+        let fixed_back: Vec<Vec<IVec>> = fixed
+            .iter()
+            .map(|p| p.iter().map(|&c| brought_back(c)).collect())
+            .collect();
+        fixed.iter().zip(&fixed_back).any(|(p, p_back)| {
+            moving.iter().zip(&moving_placed).any(|(q, q_placed)| {
+                let apart = fixed_normal.is_some_and(|n| separates(p, n, q_placed))
+                    || moving_normal.is_some_and(|n| separates(q, n, p_back));
                 !apart
             })
         })
