@@ -752,3 +752,45 @@ fn a_face_inside_the_others_hole_does_not_lie_on_it() {
     let reaching_tilted = acsg::task::bounds_from_spec("x=-2:8,y=-2:2,z=0:45,rx=-1:1,ry=-1:1,rz=-2:2").unwrap();
     assert_eq!(problem.exclusion(&on_top, &reaching_tilted), None);
 }
+
+/// The plus peg pushed into a corner of its hole, level and square (x = y = −1 mm, its
+/// 1 mm clearance taken up): six faces lie on six walls at once, at any depth. Leave
+/// out any one of those six contacts and no pose in the bounds shows the rest alone:
+/// wherever they hold, the sixth pair lies on each other too (or too close for a
+/// witness). One test of the bounds proves it: the rotation conditions shave the yaw
+/// to a sliver and propagation pins x and y, which leaves a box of the peg sliding
+/// down the walls over the hole's whole depth. There a face of the peg seen deep
+/// inside the wall at one corner of the box's translations (by twice its
+/// half-diagonal) is not found; taken at every corner, it is. The six together are not
+/// excluded.
+#[test]
+fn a_face_sliding_along_a_wall_the_length_of_the_box_keeps_lying_on_it() {
+    let (block, peg) = (load("block_with_plus_hole.off"), load("plus_peg.off"));
+    let bounds = acsg::task::bounds_from_spec("x=-2:2,y=-2:2,z=0:45,rz=-2:2").unwrap();
+    let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+    let scene = ContactScene::new(&block, &peg);
+    let at = Pose {
+        x: -1.0,
+        y: -1.0,
+        z: 36.5,
+        rx: 0.0,
+        ry: 0.0,
+        rz: 0.0,
+    };
+    let report = scene.evaluate(&at.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.penetration, 0.0);
+    let mut flush = report.contacts.clone();
+    flush.sort();
+    assert_eq!(flush.len(), 6, "{flush:?}");
+    assert!(flush.iter().all(|pc| pc.kind == ContactKind::FaceFace), "{flush:?}");
+    assert_eq!(problem.exclusion(&flush, &bounds), None, "the state itself");
+    for left_out in 0..flush.len() {
+        let mut five = flush.clone();
+        five.remove(left_out);
+        assert!(
+            problem.exclusion(&five, &bounds).is_some(),
+            "without {:?}, the bounds are left open",
+            flush[left_out]
+        );
+    }
+}

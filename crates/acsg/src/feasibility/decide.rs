@@ -730,14 +730,14 @@ impl Problem<'_> {
                     // over it, is not: a looser checker reads the faces on each other.
                     let target_pair = target.iter().any(|pc| pc.fixed == x && pc.moving == y);
                     let loose = scaled(super::LOOSE_CONTACT_REL - 10.0 * CONTACT_REL, self.scale) - turn;
-                    !target_pair && loose > 0.0 && self.faces_stay_close(f, g, &corners, loose, motion, true)
+                    !target_pair && loose > 0.0 && self.faces_stay_close(f, g, &corners, loose, (motion, turn), true)
                 }
                 _ if self.held(target, x, y) => false,
                 _ if convex(self.fixed, x) && convex(self.moving, y) => corners
                     .iter()
                     .all(|placement| self.scene.element_distance(placement, x, y) < within),
                 (ElementId::Face(f), ElementId::Face(g)) => {
-                    self.faces_stay_close(f, g, &corners, within, motion, false)
+                    self.faces_stay_close(f, g, &corners, within, (motion, turn), false)
                 }
                 _ => false,
             })
@@ -745,18 +745,25 @@ impl Problem<'_> {
 
     /// Whether a point well inside the moving face `g` stays within `within` of the
     /// fixed face `f`'s plane at every corner placement (the distance to a plane is
-    /// affine in the translation, so at every translation between them) and projects
-    /// more than `motion` (how far any point moves within the box) inside `f`: then at
-    /// every pose of the box the two faces either touch in both their interiors (a
-    /// contact of that pair, whatever the target holds) or are too close for a
-    /// witness.
+    /// affine in the translation, so at every translation between them) and inside `f`
+    /// all over the box: then at every pose of the box the two faces either touch in
+    /// both their interiors (a contact of that pair, whatever the target holds) or are
+    /// too close for a witness.
+    ///
+    /// Inside `f` all over the box: `motion` (how far any point moves within the box)
+    /// deep inside it at the first corner; or, with the rotation at the box's centre,
+    /// deeper than `turn` (how far the box's turns move any point) at every corner of
+    /// the translations, in a convex face or in one triangle of it (the depth in a
+    /// convex polygon is concave, so its least over a box of translations is at a
+    /// corner). The second sees a face sliding along a face the whole length of the
+    /// box's translations.
     fn faces_stay_close(
         &self,
         f: crate::model::FaceId,
         g: crate::model::FaceId,
         corners: &[glam::DAffine3],
         within: f64,
-        motion: f64,
+        (motion, turn): (f64, f64),
         whole: bool,
     ) -> bool {
         let (fixed, moving) = (&self.fixed_faces[f.index()], &self.moving_faces[g.index()]);
@@ -772,11 +779,19 @@ impl Problem<'_> {
         // Inside both faces by more than the contact tolerance: a touch there is read
         // as a contact of these two faces.
         let keep = scaled(10.0 * CONTACT_REL, self.scale);
-        // Points of `g` (in its part's frame): its samples, and the centres of the
-        // overlaps of the two faces' triangles at the first corner (a thin overlap
-        // holds no sample).
+        let convex = fixed.loops.len() == 1 && !self.fixed.face_outline_is_nonconvex(f);
+        let deep_at_every_corner = |p: glam::DVec3, depth: &dyn Fn(glam::DVec3) -> f64| {
+            corners.iter().all(|c| depth(c.transform_point3(p)) > turn + keep)
+        };
+        // Points of `g` (in its part's frame): its samples, and per pair of triangles
+        // the centre of their overlap at the first corner (a thin overlap holds no
+        // sample), and the centre of the part of it that stays in `f`'s triangle at
+        // every corner, with that triangle.
         let to_moving = corners[0].inverse();
-        let mut points = moving.samples.clone();
+        let shifts: Vec<glam::DVec3> = corners.iter().map(|c| c.translation - corners[0].translation).collect();
+        let centre = |poly: &[glam::DVec3]| poly.iter().copied().sum::<glam::DVec3>() / poly.len() as f64;
+        let mut points: Vec<(glam::DVec3, Option<[glam::DVec3; 3]>)> =
+            moving.samples.iter().map(|&s| (s, None)).collect();
         for t in &fixed.triangles {
             for u in &moving.triangles {
                 let [a, b, c] = u.map(|p| {
@@ -785,22 +800,43 @@ impl Problem<'_> {
                 });
                 let mut poly = t.to_vec();
                 for (x, y) in [(a, c), (c, b), (b, a)] {
-                    let outward = (y - x).cross(fixed.normal).normalize_or_zero();
-                    poly = crate::geometry::clip_convex(&poly, outward, outward.dot(x));
-                    if poly.len() < 3 {
-                        break;
+                    poly = clip_outside(&poly, x, y, fixed.normal, glam::DVec3::ZERO);
+                }
+                if poly.len() < 3 {
+                    continue;
+                }
+                points.push((to_moving.transform_point3(centre(&poly)), None));
+                // Where the triangle of `f` is, seen from the first corner, when the
+                // translation is at another.
+                let [ta, tb, tc] = *t;
+                let orient = (tb - ta).cross(tc - ta).dot(fixed.normal).signum();
+                for &shift in &shifts[1..] {
+                    for (x, y) in [(ta, tb), (tb, tc), (tc, ta)] {
+                        let (x, y) = if orient >= 0.0 { (x, y) } else { (y, x) };
+                        poly = clip_outside(&poly, x, y, fixed.normal, -shift);
                     }
                 }
                 if poly.len() >= 3 {
-                    let centre = poly.iter().copied().sum::<glam::DVec3>() / poly.len() as f64;
-                    points.push(to_moving.transform_point3(centre));
+                    points.push((to_moving.transform_point3(centre(&poly)), Some(*t)));
                 }
             }
         }
-        points.iter().any(|&s| {
-            moving.inside_depth(s) > keep
-                && near_plane(s)
-                && fixed.inside_depth(corners[0].transform_point3(s)) > 2.0 * motion + keep
+        let in_triangle = |t: [glam::DVec3; 3]| {
+            let orient = (t[1] - t[0]).cross(t[2] - t[0]).dot(fixed.normal).signum();
+            move |p: glam::DVec3| {
+                [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
+                    .iter()
+                    .map(|&(x, y)| orient * fixed.normal.cross(y - x).normalize_or_zero().dot(p - x))
+                    .fold(f64::INFINITY, f64::min)
+            }
+        };
+        points.iter().any(|&(s, triangle)| {
+            if !(moving.inside_depth(s) > keep && near_plane(s)) {
+                return false;
+            }
+            fixed.inside_depth(corners[0].transform_point3(s)) > 2.0 * motion + keep
+                || (convex && deep_at_every_corner(s, &|p| fixed.inside_depth(p)))
+                || triangle.is_some_and(|t| deep_at_every_corner(s, &in_triangle(t)))
         })
     }
 
@@ -883,6 +919,23 @@ impl Problem<'_> {
         let pose = self.solve_from(target, start, bounds, stats);
         self.settle(target, pose, bounds, others, stats)
     }
+}
+
+/// The part of a convex polygon (in a plane of normal `n`) on the inner side of the
+/// line from `x + shift` to `y + shift`, a side of a polygon counter-clockwise around
+/// `n`.
+fn clip_outside(
+    poly: &[glam::DVec3],
+    x: glam::DVec3,
+    y: glam::DVec3,
+    n: glam::DVec3,
+    shift: glam::DVec3,
+) -> Vec<glam::DVec3> {
+    if poly.len() < 3 {
+        return Vec::new();
+    }
+    let outward = (y - x).cross(n).normalize_or_zero();
+    crate::geometry::clip_convex(poly, outward, outward.dot(x + shift))
 }
 
 /// Where the look-ahead splits a box, and the rule that excluded each half (in the
