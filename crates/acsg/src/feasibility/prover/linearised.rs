@@ -31,8 +31,11 @@ use crate::pose::Bounds;
 
 /// Above this sum of the rotation box's half-widths the remainder is mostly too
 /// coarse to prove anything the interval tests do not, at the default effort; each
-/// unit of effort widens it by as much, up to [`MAX_TURN`].
-pub(super) const TURN_PER_EFFORT: f64 = 0.01;
+/// unit of effort widens it by as much, up to [`MAX_TURN`]. (0.01 until the turn met
+/// with the translation was bounded axis by axis; since, four times that proves 57
+/// more of the built-in example's candidates and finds two more states, for about
+/// half as much time again.)
+pub(super) const TURN_PER_EFFORT: f64 = 0.04;
 /// The widest rotation box the test is tried in, whatever the effort.
 pub(super) const MAX_TURN: f64 = 0.05;
 
