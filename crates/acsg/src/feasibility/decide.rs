@@ -786,9 +786,25 @@ impl Problem<'_> {
         // Points of `g` (in its part's frame): its samples, and per pair of triangles
         // the centre of their overlap at the first corner (a thin overlap holds no
         // sample), and the centre of the part of it that stays in `f`'s triangle at
-        // every corner, with that triangle.
+        // every corner, with that triangle (counter-clockwise).
         let to_moving = corners[0].inverse();
-        let shifts: Vec<glam::DVec3> = corners.iter().map(|c| c.translation - corners[0].translation).collect();
+        // The other corners' translations from the first (a box flat in a component
+        // repeats them; the first itself moves nothing).
+        let mut shifts: Vec<glam::DVec3> = Vec::new();
+        for c in &corners[1..] {
+            let shift = c.translation - corners[0].translation;
+            if shift != glam::DVec3::ZERO && !shifts.contains(&shift) {
+                shifts.push(shift);
+            }
+        }
+        // `f`'s triangle with its corners counter-clockwise around its normal.
+        let ccw = |t: [glam::DVec3; 3]| {
+            if (t[1] - t[0]).cross(t[2] - t[0]).dot(fixed.normal) >= 0.0 {
+                t
+            } else {
+                [t[0], t[2], t[1]]
+            }
+        };
         let centre = |poly: &[glam::DVec3]| poly.iter().copied().sum::<glam::DVec3>() / poly.len() as f64;
         let mut points: Vec<(glam::DVec3, Option<[glam::DVec3; 3]>)> =
             moving.samples.iter().map(|&s| (s, None)).collect();
@@ -808,25 +824,23 @@ impl Problem<'_> {
                 points.push((to_moving.transform_point3(centre(&poly)), None));
                 // Where the triangle of `f` is, seen from the first corner, when the
                 // translation is at another.
-                let [ta, tb, tc] = *t;
-                let orient = (tb - ta).cross(tc - ta).dot(fixed.normal).signum();
-                for &shift in &shifts[1..] {
+                let [ta, tb, tc] = ccw(*t);
+                for &shift in &shifts {
                     for (x, y) in [(ta, tb), (tb, tc), (tc, ta)] {
-                        let (x, y) = if orient >= 0.0 { (x, y) } else { (y, x) };
                         poly = clip_outside(&poly, x, y, fixed.normal, -shift);
                     }
                 }
                 if poly.len() >= 3 {
-                    points.push((to_moving.transform_point3(centre(&poly)), Some(*t)));
+                    points.push((to_moving.transform_point3(centre(&poly)), Some(ccw(*t))));
                 }
             }
         }
+        // The depth of a point in a counter-clockwise triangle of `f`.
         let in_triangle = |t: [glam::DVec3; 3]| {
-            let orient = (t[1] - t[0]).cross(t[2] - t[0]).dot(fixed.normal).signum();
             move |p: glam::DVec3| {
                 [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]
                     .iter()
-                    .map(|&(x, y)| orient * fixed.normal.cross(y - x).normalize_or_zero().dot(p - x))
+                    .map(|&(x, y)| fixed.normal.cross(y - x).normalize_or_zero().dot(p - x))
                     .fold(f64::INFINITY, f64::min)
             }
         };
