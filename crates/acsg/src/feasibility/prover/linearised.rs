@@ -11,7 +11,10 @@
 //! `|e| ≤ ½ (Σ |δ_k|)² |w|`: every second derivative of `Rz Ry Rx` applied to `w` is
 //! a product of rotations and at most two unit generators, of norm at most `|w|`.
 
+use std::cell::RefCell;
+
 use glam::{DMat3, DVec3};
+use rustc_hash::FxHashMap;
 
 use super::{Apart, ConvexPart, IVec, Link, Prover, over_face, sides};
 
@@ -101,7 +104,33 @@ struct Turn {
     d: f64,
 }
 
+/// A vector of the moving part as the linear forms at one box use it: turned by the
+/// rotation at the box's centre, with its derivatives by the angles there. A point or
+/// direction met many times in a box (a vertex against every face near it) is turned
+/// once.
+#[derive(Clone, Copy, Debug)]
+struct Spun {
+    /// `R v`.
+    turned: DVec3,
+    /// `∂(R v)/∂θk`.
+    jacobian: [DVec3; 3],
+    /// `∂²(R v)/∂θj∂θk`, in [`Turn`]'s `hessian` order.
+    hessian: [DVec3; 6],
+    /// `|v|`.
+    length: f64,
+}
+
 impl Turn {
+    /// `v` turned at the box's centre, with its derivatives.
+    fn spin(&self, v: DVec3) -> Spun {
+        Spun {
+            turned: self.r * v,
+            jacobian: self.jacobian(v),
+            hessian: self.hessian.map(|m| m * v),
+            length: v.length(),
+        }
+    }
+
     fn new(lo: &[f64; VARS], hi: &[f64; VARS]) -> Turn {
         let c: [f64; 3] = std::array::from_fn(|k| 0.5 * (lo[k + 3] + hi[k + 3]));
         let (rx, ry, rz) = (
@@ -145,8 +174,8 @@ impl Turn {
     /// turn `Σ δ_k J_k v` met with `Δt` component by component. A turn that keeps `v`
     /// (a turn about `v` itself) or moves it across a thin side of the box costs little,
     /// where `s |v| d` would charge every turn against the box's whole diagonal.
-    fn bilinear(&self, v: DVec3) -> f64 {
-        self.bilinear_of(self.jacobian(v), v.length())
+    fn bilinear(&self, v: &Spun) -> f64 {
+        self.bilinear_of(v.jacobian, v.length)
     }
 
     /// [`Turn::bilinear`] for a direction whose derivatives by the angles are
@@ -163,8 +192,8 @@ impl Turn {
     }
 
     /// How far `R v` is from its linear part at most.
-    fn second(&self, v: DVec3) -> f64 {
-        0.5 * self.s * self.s * v.length()
+    fn second(&self, v: &Spun) -> f64 {
+        0.5 * self.s * self.s * v.length
     }
 
     /// How far `n · R v` is from its linear part at most: ½ Σ h_j h_k sup |n · ∂²R/∂θj∂θk v|
@@ -172,7 +201,7 @@ impl Turn {
     /// turn that moves `v` within a plane normal to `n` leaves little of it. The part
     /// of `n` along z is turned by the tilts only (`Rz` keeps z), so it pays for `rx`
     /// and `ry` alone: a height over a floor stays linear however wide the yaw.
-    fn second_along(&self, n: DVec3, v: DVec3) -> f64 {
+    fn second_along(&self, n: DVec3, v: &Spun) -> f64 {
         let Some((across, along_z)) = self.split_along_z(n) else {
             return self.remainder(n, v, self.h, self.s);
         };
@@ -194,7 +223,7 @@ impl Turn {
 
     /// [`Turn::second_along`] over angle half-widths `h` summing to `s`, for a `n`
     /// whose value along `R v` depends on no angle whose half-width is left out.
-    fn remainder(&self, n: DVec3, v: DVec3, h: [f64; 3], s: f64) -> f64 {
+    fn remainder(&self, n: DVec3, v: &Spun, h: [f64; 3], s: f64) -> f64 {
         if n == DVec3::ZERO {
             return 0.0;
         }
@@ -208,21 +237,21 @@ impl Turn {
         ];
         // Off the centre each second derivative moves by at most `s` (times |n| |v|),
         // and the weights add up to s²; the round-off of the products is covered too.
-        let spread = (s + 1e-12) * n.length() * v.length();
-        let along: f64 = self
+        let spread = (s + 1e-12) * n.length() * v.length;
+        let along: f64 = v
             .hessian
             .iter()
             .zip(weights)
-            .map(|(m, w)| w * (n.dot(*m * v).abs() + spread))
+            .map(|(mv, w)| w * (n.dot(*mv).abs() + spread))
             .sum();
-        (0.5 * along).min(0.5 * s * s * v.length() * n.length())
+        (0.5 * along).min(0.5 * s * s * v.length * n.length())
     }
 
     /// `n · (R w + t)`.
-    fn on_moving_point(&self, n: DVec3, w: DVec3) -> Affine {
-        let j = self.jacobian(w);
+    fn on_moving_point(&self, n: DVec3, w: &Spun) -> Affine {
+        let j = w.jacobian;
         Affine {
-            base: n.dot(self.r * w),
+            base: n.dot(w.turned),
             coef: [n.x, n.y, n.z, n.dot(j[0]), n.dot(j[1]), n.dot(j[2])],
             err: self.second_along(n, w),
         }
@@ -230,9 +259,8 @@ impl Turn {
 
     /// `(R m) · (a − t)`: a point of the fixed part against a direction of the moving
     /// part (the bilinear term `δ · Δt` in the remainder).
-    fn on_fixed_point(&self, m: DVec3, a: DVec3) -> Affine {
-        let u = self.r * m;
-        let j = self.jacobian(m);
+    fn on_fixed_point(&self, m: &Spun, a: DVec3) -> Affine {
+        let (u, j) = (m.turned, m.jacobian);
         let arm = a - self.t_c;
         Affine {
             base: u.dot(a),
@@ -261,18 +289,19 @@ impl Turn {
 
     /// An interval that holds [`Turn::on_fixed_point`]`(m, a)`'s range over the box, as
     /// [`Turn::moving_point_hull`] does.
-    fn fixed_point_hull(&self, m: DVec3, a: DVec3, lo: &[f64; VARS], hi: &[f64; VARS]) -> Interval {
-        let u = self.r * m;
+    fn fixed_point_hull(&self, m: &Spun, a: DVec3, lo: &[f64; VARS], hi: &[f64; VARS]) -> Interval {
+        let u = m.turned;
         let arm = (a - self.t_c).length();
-        let size = m.length() * arm;
+        let size = m.length * arm;
         let err = self.bilinear(m) + self.second(m) * (arm + 2.0 * self.d);
         hull(u.dot(a), (-u).to_array(), lo, hi, size * turn_reach(lo, hi) + err)
     }
 
     /// `(da × R db) · (a0 − R b0 − t)`: two edges crossing.
     fn crossing(&self, a0: DVec3, da: DVec3, b0: DVec3, db: DVec3) -> Affine {
-        let (u, uj) = (self.r * db, self.jacobian(db));
-        let (p, pj) = (self.r * b0, self.jacobian(b0));
+        let (b0, db) = (self.spin(b0), self.spin(db));
+        let (u, uj) = (db.turned, db.jacobian);
+        let (p, pj) = (b0.turned, b0.jacobian);
         let n = da.cross(u);
         let g = a0 - p - self.t_c;
         let rot = |k: usize| da.cross(uj[k]).dot(g) - n.dot(pj[k]);
@@ -282,11 +311,11 @@ impl Turn {
             base: n.dot(a0 - p),
             coef: [-n.x, -n.y, -n.z, rot(0), rot(1), rot(2)],
             // (da × r) · g = r · (g × da): the remainder r of `R db` met along g × da.
-            err: self.second_along(n, b0)
-                + self.second_along(g.cross(da), db)
-                + self.second(db) * self.d
-                + self.bilinear_of(uj.map(|j| da.cross(j)), da.length() * db.length())
-                + du * du * b0.length(),
+            err: self.second_along(n, &b0)
+                + self.second_along(g.cross(da), &db)
+                + self.second(&db) * self.d
+                + self.bilinear_of(uj.map(|j| da.cross(j)), da.length() * db.length)
+                + du * du * b0.length,
         }
     }
 }
@@ -319,6 +348,7 @@ impl Prover<'_> {
             rows: Vec::new(),
             either: Vec::new(),
             edges_added: Vec::new(),
+            spins: RefCell::default(),
         };
         linear.contacts(links);
         linear.kept_apart(links);
@@ -360,54 +390,69 @@ struct Linearised<'p, 'a> {
     either: Vec<Vec<Vec<Row>>>,
     /// (moving part's edge?, edge, piece) and the point kept out, for the edge points in.
     edges_added: Vec<((bool, usize, usize), DVec3)>,
+    /// The vectors of the moving part turned so far ([`Turn::spin`]), by their bits.
+    spins: RefCell<FxHashMap<[u64; 3], Spun>>,
 }
 
 impl Linearised<'_, '_> {
+    /// `f` of [`Turn::spin`]`(v)`, turned once per vector and box (`f` turns no other).
+    fn with_spun<T>(&self, v: DVec3, f: impl FnOnce(&Spun) -> T) -> T {
+        let key = v.to_array().map(f64::to_bits);
+        let mut spins = self.spins.borrow_mut();
+        f(spins.entry(key).or_insert_with(|| self.turn.spin(v)))
+    }
+
     /// The rows of the contacts.
     fn contacts(&mut self, links: &super::Links) {
         let (turn, s) = (&self.turn, self.prover.slack);
         for link in &links.links {
-            match *link {
-                Link::MovingPointOnFixedPlane { w, n, d } => self.rows.push(turn.on_moving_point(n, w).row(d, d, s)),
-                Link::FixedPointOnMovingPlane { a, m, e } => self.rows.push(turn.on_fixed_point(m, a).row(e, e, s)),
-                Link::Crossing { a0, da, b0, db } => self.rows.push(turn.crossing(a0, da, b0, db).row(0.0, 0.0, s)),
+            let row = match *link {
+                Link::MovingPointOnFixedPlane { w, n, d } => {
+                    self.with_spun(w, |w| turn.on_moving_point(n, w)).row(d, d, s)
+                }
+                Link::FixedPointOnMovingPlane { a, m, e } => {
+                    self.with_spun(m, |m| turn.on_fixed_point(m, a)).row(e, e, s)
+                }
+                Link::Crossing { a0, da, b0, db } => turn.crossing(a0, da, b0, db).row(0.0, 0.0, s),
                 Link::Region { a, b } if b.0 == b.1 => {
                     for k in 0..3 {
-                        let h = turn.on_moving_point(DVec3::AXES[k], b.0);
+                        let h = self.with_spun(b.0, |w| turn.on_moving_point(DVec3::AXES[k], w));
                         self.rows.push(h.row(a.0[k], a.1[k], s));
                     }
+                    continue;
                 }
                 Link::Region { a, b } if a.0 == a.1 => {
                     for k in 0..3 {
-                        let h = turn.on_fixed_point(DVec3::AXES[k], a.0);
+                        let h = self.with_spun(DVec3::AXES[k], |m| turn.on_fixed_point(m, a.0));
                         self.rows.push(h.row(b.0[k], b.1[k], s));
                     }
+                    continue;
                 }
-                Link::Region { .. } => {}
-            }
+                Link::Region { .. } => continue,
+            };
+            self.rows.push(row);
         }
     }
 
     /// Where a point is, coordinate by coordinate, over the box: the moving part's
     /// point `w` in G's frame, or the fixed part's `a` in the moving part's frame.
     fn position(&self, moving: bool, p: DVec3) -> IVec {
-        std::array::from_fn(|k| {
-            let axis = DVec3::AXES[k];
-            let h = if moving {
-                self.turn.on_moving_point(axis, p)
-            } else {
-                self.turn.on_fixed_point(axis, p)
-            };
-            h.range(&self.lo, &self.hi)
-        })
+        let (lo, hi) = (&self.lo, &self.hi);
+        if moving {
+            self.with_spun(p, |w| {
+                DVec3::AXES.map(|axis| self.turn.on_moving_point(axis, w).range(lo, hi))
+            })
+        } else {
+            DVec3::AXES.map(|axis| self.with_spun(axis, |m| self.turn.on_fixed_point(m, p)).range(lo, hi))
+        }
     }
 
     /// The height of a point over a plane of the other part.
     fn height(&self, moving: bool, p: DVec3, (n, d): (DVec3, f64)) -> Affine {
         let mut h = if moving {
-            self.turn.on_moving_point(n, p)
+            self.with_spun(p, |w| self.turn.on_moving_point(n, w))
         } else {
-            self.turn.on_fixed_point(n, p)
+            self.with_spun(n, |m| self.turn.on_fixed_point(m, p))
         };
         h.base -= d;
         h
@@ -455,7 +500,7 @@ impl Linearised<'_, '_> {
         let rough = if moving {
             self.turn.moving_point_hull(face.0, p, &self.lo, &self.hi)
         } else {
-            self.turn.fixed_point_hull(face.0, p, &self.lo, &self.hi)
+            self.with_spun(face.0, |m| self.turn.fixed_point_hull(m, p, &self.lo, &self.hi))
         }
         .sub(Interval::point(face.1));
         if rough.lo >= m || rough.hi <= -m {
@@ -768,8 +813,8 @@ mod tests {
             let turn = Turn::new(&lo, &hi);
             let n = DVec3::new(numbers.next() - 0.5, numbers.next() - 0.5, numbers.next() - 0.5).normalize();
             let v = 100.0 * DVec3::new(numbers.next() - 0.5, numbers.next() - 0.5, numbers.next() - 0.5);
-            let bound = turn.second_along(n, v);
-            assert!(bound <= turn.second(v) * (1.0 + 1e-12));
+            let bound = turn.second_along(n, &turn.spin(v));
+            assert!(bound <= turn.second(&turn.spin(v)) * (1.0 + 1e-12));
             let j = turn.jacobian(v);
             for _ in 0..20 {
                 let d: [f64; 3] = std::array::from_fn(|k| (2.0 * numbers.next() - 1.0) * half[k]);
@@ -841,7 +886,7 @@ mod tests {
                     unit(&mut numbers)
                 },
             );
-            let forms = [turn.on_fixed_point(m, a), turn.crossing(a0, da, b0, db)];
+            let forms = [turn.on_fixed_point(&turn.spin(m), a), turn.crossing(a0, da, b0, db)];
             for _ in 0..30 {
                 let x: [f64; VARS] = std::array::from_fn(|k| dlo[k] + (dhi[k] - dlo[k]) * numbers.next());
                 let t = DVec3::new(x[0], x[1], x[2]);
@@ -897,8 +942,14 @@ mod tests {
             }
             let (n, p) = (unit(&mut numbers), 150.0 * unit(&mut numbers) * numbers.next());
             for (affine, hull) in [
-                (turn.on_moving_point(n, p), turn.moving_point_hull(n, p, &lo, &hi)),
-                (turn.on_fixed_point(n, p), turn.fixed_point_hull(n, p, &lo, &hi)),
+                (
+                    turn.on_moving_point(n, &turn.spin(p)),
+                    turn.moving_point_hull(n, p, &lo, &hi),
+                ),
+                (
+                    turn.on_fixed_point(&turn.spin(n), p),
+                    turn.fixed_point_hull(&turn.spin(n), p, &lo, &hi),
+                ),
             ] {
                 let range = affine.range(&lo, &hi);
                 assert!(hull.lo <= range.lo && range.hi <= hull.hi, "{range:?} not in {hull:?}");
