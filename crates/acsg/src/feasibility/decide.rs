@@ -612,10 +612,17 @@ impl Problem<'_> {
             }
             (excluded, left, by)
         };
-        let scores: Vec<_> = components
-            .filter(|&k| self.prover.split_among(b, k..k + 1).is_some())
-            .map(|k| (k, score(k)))
-            .collect();
+        // A component whose halves are both excluded is the first one with the most
+        // (no component has more): the rest need not be scored.
+        let mut scores = Vec::new();
+        for k in components.filter(|&k| self.prover.split_among(b, k..k + 1).is_some()) {
+            let scored = score(k);
+            let both = scored.0 == 2;
+            scores.push((k, scored));
+            if both {
+                break;
+            }
+        }
         let split = |component: usize| Split {
             component,
             excluded: scores
