@@ -215,8 +215,7 @@ pub(crate) struct RunFlags {
     /// How hard to search and prove each candidate state before leaving it undecided:
     /// a multiple of the default budget (1). Higher finds states that hold only on
     /// slivers of the bounds and decides more candidates, at more time; from 2 the slice
-    /// sweep also goes near every state found, and the second-order proof also runs
-    /// where only the turn about z is wide.
+    /// sweep also goes near every state found.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub(crate) effort: Option<u32>,
     /// How to search: `full` (the default: every candidate decided, witnessed or proved

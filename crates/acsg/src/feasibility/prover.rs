@@ -343,12 +343,10 @@ pub(crate) struct Prover<'a> {
     /// every pair that does not touch is at least the separation tolerance apart, so the
     /// point keeps that far from the elements' boundaries (half of it, to be safe).
     margin: f64,
-    /// The widest box of rotations (sum of half-widths) the second-order test is tried
-    /// in: wider boxes cost more programmes and are more often split than proved.
+    /// The widest box of tilts (sum of the `rx` and `ry` half-widths, whatever the yaw)
+    /// the second-order test is tried in: wider boxes cost more programmes and are
+    /// more often split than proved.
     max_turn: f64,
-    /// Whether that width counts the tilts only, whatever the yaw (from
-    /// [`super::THOROUGH_EFFORT`]: it decides more candidates, at more programmes).
-    yaw_free: bool,
 }
 
 impl<'a> Prover<'a> {
@@ -371,7 +369,6 @@ impl<'a> Prover<'a> {
             slack: scaled(10.0 * CONTACT_REL, scale),
             margin: scaled(0.5 * SEPARATION_REL, scale),
             max_turn: linearised::TURN_PER_EFFORT,
-            yaw_free: false,
         }
     }
 
@@ -407,7 +404,6 @@ impl<'a> Prover<'a> {
     /// [`super::Problem::set_effort`]).
     pub fn set_effort(&mut self, effort: u32) {
         self.max_turn = (linearised::TURN_PER_EFFORT * f64::from(effort.max(1))).min(linearised::MAX_TURN);
-        self.yaw_free = effort >= super::THOROUGH_EFFORT;
     }
 
     /// The constraints of a state's contacts; `None` when they are already
