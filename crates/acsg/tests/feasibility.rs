@@ -855,3 +855,46 @@ fn an_edge_crossing_along_a_face_of_the_other_edge_is_excluded_by_the_rotation_a
         "the yaw turns the face off the rim"
     );
 }
+
+/// A vertex on an edge whose own edge runs into a face of the other edge's, along it,
+/// is no vertex on an edge: with the yaw pinned at zero, the hole's rim corner on the
+/// peg's upright corner edge has the rim along y lying on the peg's face x = 36
+/// (a checker reads the rim on the face). The rotation-only test excludes it over the
+/// whole bounds; not once the yaw is free, which turns the face off the rim.
+#[test]
+fn a_vertex_on_an_edge_whose_edge_runs_along_the_edges_face_is_excluded_by_the_rotation_alone() {
+    let (block, peg) = (load("block_with_hole.off"), load("peg.off"));
+    let pinned = acsg::task::bounds_from_spec("x=-1:1,y=-1:1,z=0:45,rx=-1:1,ry=-1:1").unwrap();
+    let scene = ContactScene::new(&block, &peg);
+    let degree = 1f64.to_radians();
+    // The peg's upright corner edge (x = y = 36), read crossing the rim along x.
+    let report = scene.evaluate(
+        &Pose::from_array([
+            0.5,
+            -0.756_488_631_997_435_3,
+            35.108_961_807_289_21,
+            degree,
+            -degree,
+            0.0,
+        ])
+        .to_affine(&DAffine3::IDENTITY),
+        CONTACT_REL,
+    );
+    assert_eq!(report.contacts.len(), 1, "{:?}", report.contacts);
+    let corner_edge = report.contacts[0].moving;
+    let rim_corner = block
+        .vertices()
+        .iter()
+        .position(|v| v.position == DVec3::new(35.0, 35.0, 50.0))
+        .expect("the hole's rim corner");
+    let target = [PrincipalContact {
+        fixed: ElementId::Vertex(VertexId(rim_corner as u32)),
+        moving: corner_edge,
+        kind: ContactKind::VertexEdge,
+    }];
+    let problem = Problem::new(&block, &peg, pinned, DAffine3::IDENTITY);
+    assert!(problem.exclusion(&target, &pinned).is_some());
+    let free = acsg::task::bounds_from_spec("x=-1:1,y=-1:1,z=0:45,rx=-1:1,ry=-1:1,rz=-1:1").unwrap();
+    let turning = Problem::new(&block, &peg, free, DAffine3::IDENTITY);
+    assert_eq!(turning.exclusion(&target, &free), None);
+}

@@ -2,7 +2,8 @@
 //! part's edges leaving the contact point out of the face, its edges in the contact lie
 //! along the face, a face in contact faces the other way; two crossing edges have a
 //! plane through both that separates their wedges, and neither lies along a face of
-//! the other's.
+//! the other's; a vertex held on an edge has no edge of its own running into a face of
+//! that edge along it.
 //!
 //! Each condition is a value `n · (R d)` (n in G's frame, d in the moving part's) that
 //! must meet a range. Over a box of rotations the value is enclosed by interval
@@ -85,6 +86,17 @@ pub(crate) struct Turns {
     wedges: Vec<Wedge>,
     askew: Vec<Askew>,
     flush: Vec<Flush>,
+    lying: Vec<Lying>,
+}
+
+/// An edge leaving a vertex held on an edge of the other part, into one of that edge's
+/// faces: excluded when `flat` stays inside its open range (the edge within half the
+/// separation of the face's plane end to end) while `into` (the edge's direction along
+/// the face, across the held edge) stays positive.
+#[derive(Clone, Copy, Debug)]
+struct Lying {
+    flat: Turn,
+    into: (DVec3, DVec3),
 }
 
 /// `n · (R d)` over a rotation enclosure.
@@ -157,6 +169,10 @@ impl Turns {
                     v.hi > a.least || v.lo < -a.least
                 }) || a.along.is_some_and(|(n, d)| value(&r, n, d).lo <= 0.0)
             })
+            && self.lying.iter().all(|l| {
+                let v = value(&r, l.flat.n, l.flat.d);
+                v.lo <= l.flat.lo || v.hi >= l.flat.hi || value(&r, l.into.0, l.into.1).lo <= 0.0
+            })
             && self.flush.iter().all(|f| {
                 let flush = DVec3::AXES.iter().enumerate().all(|(k, &axis)| {
                     let v = value(&r, axis, f.m);
@@ -173,6 +189,7 @@ impl Turns {
             && self.wedges.is_empty()
             && self.askew.is_empty()
             && self.flush.is_empty()
+            && self.lying.is_empty()
     }
 
     /// The box with its angle ranges cut down to where the conditions may hold
@@ -491,6 +508,7 @@ impl Problem<'_> {
                 });
             }
             (a, b) => {
+                self.add_lying(pc, target, rise, out);
                 // A vertex in an edge or on a vertex: an edge of one part leaving the
                 // contact along an edge of the other lies along it (e-e-t), unless the
                 // two leave the shared vertex in opposite directions.
@@ -525,6 +543,88 @@ impl Problem<'_> {
                     }
                 }
             }
+        }
+    }
+}
+
+impl Problem<'_> {
+    /// A vertex held on an edge of the other part: none of its edges runs into a face
+    /// of that edge lying along it. The contact holds the vertex within the contact
+    /// tolerance of the face's plane, so an edge turned off the plane by less than
+    /// `rise` over its length, towards the face's side of the held edge, lies within the
+    /// loosest tolerance of the face from end to end: a checker reads it on the face,
+    /// its end over the face or it crossing the face's next edge, a contact the vertex
+    /// on the edge does not imply (unless another contact of the target touches that
+    /// face's closure).
+    fn add_lying(&self, pc: &PrincipalContact, target: &[PrincipalContact], rise: f64, out: &mut Turns) {
+        let to_g = |d: DVec3| self.prover.fixed_direction(d);
+        // The edges leaving a vertex: direction (unit) and length.
+        let leaving = |part: &Part, v: crate::model::VertexId| -> Vec<(DVec3, f64)> {
+            part.vertex(v)
+                .edges
+                .iter()
+                .map(|&x| {
+                    let [a, b] = part.edge(x).vertices;
+                    let w = if a == v { b } else { a };
+                    let d = part.vertex(w).position - part.vertex(v).position;
+                    (d.normalize(), d.length())
+                })
+                .collect()
+        };
+        let untouched = |fixed_side: bool, face: ElementId| {
+            target.iter().filter(|&other| other != pc).all(|other| {
+                if fixed_side {
+                    !self.fixed.in_closure(face, other.fixed)
+                } else {
+                    !self.moving.in_closure(face, other.moving)
+                }
+            })
+        };
+        match (pc.fixed, pc.moving) {
+            (ElementId::Edge(e), ElementId::Vertex(v)) => {
+                let faces = self.fixed.edge(e).faces.into_iter().zip(self.fixed.edge_wedge(e));
+                for (f, u) in faces {
+                    if !untouched(true, ElementId::Face(f)) {
+                        continue;
+                    }
+                    let n = to_g(self.fixed.face(f).normal);
+                    for (d, length) in leaving(self.moving, v) {
+                        let flat = rise / length;
+                        out.lying.push(Lying {
+                            flat: Turn {
+                                n,
+                                d,
+                                lo: -flat,
+                                hi: flat,
+                            },
+                            into: (to_g(u), d),
+                        });
+                    }
+                }
+            }
+            (ElementId::Vertex(v), ElementId::Edge(x)) => {
+                let faces = self.moving.edge(x).faces.into_iter().zip(self.moving.edge_wedge(x));
+                for (g, u) in faces {
+                    if !untouched(false, ElementId::Face(g)) {
+                        continue;
+                    }
+                    let m = self.moving.face(g).normal;
+                    for (d, length) in leaving(self.fixed, v) {
+                        let flat = rise / length;
+                        let d = to_g(d);
+                        out.lying.push(Lying {
+                            flat: Turn {
+                                n: d,
+                                d: m,
+                                lo: -flat,
+                                hi: flat,
+                            },
+                            into: (d, u),
+                        });
+                    }
+                }
+            }
+            _ => {}
         }
     }
 }
