@@ -814,17 +814,7 @@ fn an_edge_crossing_along_a_face_of_the_other_edge_is_excluded_by_the_rotation_a
         assert_eq!(report.contacts.len(), 1, "{:?}", report.contacts);
         report.contacts[0]
     };
-    let degree = 1f64.to_radians();
-    // The peg's upright corner edge (x = y = 36) across the rim along x (y = 35).
-    let across_x = read([
-        0.5,
-        -0.756_488_631_997_435_3,
-        35.108_961_807_289_21,
-        degree,
-        -degree,
-        0.0,
-    ]);
-    assert_eq!(across_x.kind, ContactKind::EdgeEdge);
+    let across_x = corner_edge_across_the_rim(&scene);
     // The rim along y (x = 35) lying on the peg's face x = 36, leaning about y.
     let rim_on_face = read([
         -0.858_971_528_644_052_7,
@@ -865,23 +855,7 @@ fn an_edge_crossing_along_a_face_of_the_other_edge_is_excluded_by_the_rotation_a
 fn a_vertex_on_an_edge_whose_edge_runs_along_the_edges_face_is_excluded_by_the_rotation_alone() {
     let (block, peg) = (load("block_with_hole.off"), load("peg.off"));
     let pinned = acsg::task::bounds_from_spec("x=-1:1,y=-1:1,z=0:45,rx=-1:1,ry=-1:1").unwrap();
-    let scene = ContactScene::new(&block, &peg);
-    let degree = 1f64.to_radians();
-    // The peg's upright corner edge (x = y = 36), read crossing the rim along x.
-    let report = scene.evaluate(
-        &Pose::from_array([
-            0.5,
-            -0.756_488_631_997_435_3,
-            35.108_961_807_289_21,
-            degree,
-            -degree,
-            0.0,
-        ])
-        .to_affine(&DAffine3::IDENTITY),
-        CONTACT_REL,
-    );
-    assert_eq!(report.contacts.len(), 1, "{:?}", report.contacts);
-    let corner_edge = report.contacts[0].moving;
+    let corner_edge = corner_edge_across_the_rim(&ContactScene::new(&block, &peg)).moving;
     let rim_corner = block
         .vertices()
         .iter()
@@ -897,4 +871,24 @@ fn a_vertex_on_an_edge_whose_edge_runs_along_the_edges_face_is_excluded_by_the_r
     let free = acsg::task::bounds_from_spec("x=-1:1,y=-1:1,z=0:45,rx=-1:1,ry=-1:1,rz=-1:1").unwrap();
     let turning = Problem::new(&block, &peg, free, DAffine3::IDENTITY);
     assert_eq!(turning.exclusion(&target, &free), None);
+}
+
+/// The peg's upright corner edge (x = y = 36) crossing the plain hole's rim along x
+/// (y = 35), tilted 1° about x and −1° about y, read by the contact module: the one
+/// contact there.
+fn corner_edge_across_the_rim(scene: &ContactScene) -> PrincipalContact {
+    let degree = 1f64.to_radians();
+    let pose = Pose::from_array([
+        0.5,
+        -0.756_488_631_997_435_3,
+        35.108_961_807_289_21,
+        degree,
+        -degree,
+        0.0,
+    ]);
+    let report = scene.evaluate(&pose.to_affine(&DAffine3::IDENTITY), CONTACT_REL);
+    assert_eq!(report.penetration, 0.0);
+    assert_eq!(report.contacts.len(), 1, "{:?}", report.contacts);
+    assert_eq!(report.contacts[0].kind, ContactKind::EdgeEdge);
+    report.contacts[0]
 }

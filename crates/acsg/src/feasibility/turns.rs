@@ -18,7 +18,7 @@ use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use super::prover::implied;
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::Aabb;
-use crate::model::{ElementId, FaceId, Part};
+use crate::model::{ElementId, FaceId, Part, VertexId};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, MIN_TILT, ROTATION_PROBE, SEPARATION_REL, scaled};
 
@@ -318,16 +318,9 @@ impl Problem<'_> {
         // penetrate within the prover's margin).
         let leaving = |part: &Part, e: ElementId| -> Vec<(DVec3, f64)> {
             match e {
-                ElementId::Vertex(v) => part
-                    .vertex(v)
-                    .edges
-                    .iter()
-                    .map(|&x| {
-                        let [a, b] = part.edge(x).vertices;
-                        let w = if a == v { b } else { a };
-                        let d = part.vertex(w).position - part.vertex(v).position;
-                        (d.normalize(), rise / d.length())
-                    })
+                ElementId::Vertex(v) => edges_leaving(part, v)
+                    .into_iter()
+                    .map(|(d, length)| (d, rise / length))
                     .collect(),
                 ElementId::Edge(x) => {
                     let [p, q] = part.edge_points(x);
@@ -558,19 +551,6 @@ impl Problem<'_> {
     /// face's closure).
     fn add_lying(&self, pc: &PrincipalContact, target: &[PrincipalContact], rise: f64, out: &mut Turns) {
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
-        // The edges leaving a vertex: direction (unit) and length.
-        let leaving = |part: &Part, v: crate::model::VertexId| -> Vec<(DVec3, f64)> {
-            part.vertex(v)
-                .edges
-                .iter()
-                .map(|&x| {
-                    let [a, b] = part.edge(x).vertices;
-                    let w = if a == v { b } else { a };
-                    let d = part.vertex(w).position - part.vertex(v).position;
-                    (d.normalize(), d.length())
-                })
-                .collect()
-        };
         let untouched = |fixed_side: bool, face: ElementId| {
             target.iter().filter(|&other| other != pc).all(|other| {
                 if fixed_side {
@@ -588,7 +568,7 @@ impl Problem<'_> {
                         continue;
                     }
                     let n = to_g(self.fixed.face(f).normal);
-                    for (d, length) in leaving(self.moving, v) {
+                    for (d, length) in edges_leaving(self.moving, v) {
                         let flat = rise / length;
                         out.lying.push(Lying {
                             flat: Turn {
@@ -609,7 +589,7 @@ impl Problem<'_> {
                         continue;
                     }
                     let m = self.moving.face(g).normal;
-                    for (d, length) in leaving(self.fixed, v) {
+                    for (d, length) in edges_leaving(self.fixed, v) {
                         let flat = rise / length;
                         let d = to_g(d);
                         out.lying.push(Lying {
@@ -627,6 +607,20 @@ impl Problem<'_> {
             _ => {}
         }
     }
+}
+
+/// The edges leaving a vertex: each one's unit direction from it and its length.
+fn edges_leaving(part: &Part, v: VertexId) -> Vec<(DVec3, f64)> {
+    part.vertex(v)
+        .edges
+        .iter()
+        .map(|&x| {
+            let [a, b] = part.edge(x).vertices;
+            let w = if a == v { b } else { a };
+            let d = part.vertex(w).position - part.vertex(v).position;
+            (d.normalize(), d.length())
+        })
+        .collect()
 }
 
 /// The diagonal of a face's bounding box.
