@@ -795,57 +795,6 @@ fn a_face_sliding_along_a_wall_the_length_of_the_box_keeps_lying_on_it() {
     }
 }
 
-/// A crossing whose edge lies along a face of the other edge's is no crossing: with
-/// the yaw pinned at zero, the peg's side faces stay parallel to the rim edges they
-/// face, so its upright corner edge crossing the rim along y puts the whole rim within
-/// the contact tolerance of the peg's face (a checker reads the rim lying on the face,
-/// e-f). The rotation-only test excludes it over the whole bounds; the corner edge
-/// crossing the rim along x, which the two tilts turn off the face, stays open, and
-/// so does the first once the yaw is free.
-#[test]
-fn an_edge_crossing_along_a_face_of_the_other_edge_is_excluded_by_the_rotation_alone() {
-    let (block, peg) = (load("block_with_hole.off"), load("peg.off"));
-    let pinned = acsg::task::bounds_from_spec("x=-1:1,y=-1:1,z=0:45,rx=-1:1,ry=-1:1").unwrap();
-    let problem = Problem::new(&block, &peg, pinned, DAffine3::IDENTITY);
-    let scene = ContactScene::new(&block, &peg);
-    let read = |pose: [f64; 6]| {
-        let report = scene.evaluate(&Pose::from_array(pose).to_affine(&DAffine3::IDENTITY), CONTACT_REL);
-        assert_eq!(report.penetration, 0.0);
-        assert_eq!(report.contacts.len(), 1, "{:?}", report.contacts);
-        report.contacts[0]
-    };
-    let across_x = corner_edge_across_the_rim(&scene);
-    // The rim along y (x = 35) lying on the peg's face x = 36, leaning about y.
-    let rim_on_face = read([
-        -0.858_971_528_644_052_7,
-        0.5,
-        21.704_657_726_883_212,
-        3.329_819_008_592_617e-6,
-        -0.005_000_020_831_290_753,
-        0.0,
-    ]);
-    assert_eq!(rim_on_face.kind, ContactKind::EdgeFace);
-    let corner_edge = across_x.moving;
-    assert!(
-        peg.in_closure(rim_on_face.moving, corner_edge),
-        "the corner edge bounds that face"
-    );
-    let across_y = PrincipalContact {
-        fixed: rim_on_face.fixed,
-        moving: corner_edge,
-        kind: ContactKind::EdgeEdge,
-    };
-    assert_eq!(problem.exclusion(&[across_x], &pinned), None, "a state of these bounds");
-    assert!(problem.exclusion(&[across_y], &pinned).is_some());
-    let free = acsg::task::bounds_from_spec("x=-1:1,y=-1:1,z=0:45,rx=-1:1,ry=-1:1,rz=-1:1").unwrap();
-    let turning = Problem::new(&block, &peg, free, DAffine3::IDENTITY);
-    assert_eq!(
-        turning.exclusion(&[across_y], &free),
-        None,
-        "the yaw turns the face off the rim"
-    );
-}
-
 /// A vertex on an edge whose own edge runs into a face of the other edge's, along it,
 /// is no vertex on an edge: with the yaw pinned at zero, the hole's rim corner on the
 /// peg's upright corner edge has the rim along y lying on the peg's face x = 36

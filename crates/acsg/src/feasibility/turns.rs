@@ -1,9 +1,8 @@
 //! The rotation-only conditions of a target: at a contact involving a face, the other
 //! part's edges leaving the contact point out of the face, its edges in the contact lie
 //! along the face, a face in contact faces the other way; two crossing edges have a
-//! plane through both that separates their wedges, and neither lies along a face of
-//! the other's; a vertex held on an edge has no edge of its own running into a face of
-//! that edge along it.
+//! plane through both that separates their wedges; a vertex held on an edge has no
+//! edge of its own running into a face of that edge along it.
 //!
 //! Each condition is a value `n · (R d)` (n in G's frame, d in the moving part's) that
 //! must meet a range. Over a box of rotations the value is enclosed by interval
@@ -438,31 +437,6 @@ impl Problem<'_> {
                     least: scaled(CONTACT_REL, self.scale) / (le.max(lx) * 3f64.sqrt()),
                     along: None,
                 });
-                // Neither edge lies along a face of the other's: the crossing holds the
-                // edge within the tolerance of the face's plane, so an edge turned off
-                // the plane by less than half the separation over its length has both
-                // ends within the loosest tolerance of it. A checker there reads the
-                // edge lying on the face, or its end over the face, or it crossing the
-                // face's next edge: a contact with the face's closure the crossing does
-                // not imply (unless another contact of the target holds one there).
-                let others_touch = |fixed: Option<ElementId>, moving: Option<ElementId>| {
-                    target.iter().filter(|&other| other != pc).any(|other| {
-                        fixed.is_some_and(|f| self.fixed.in_closure(f, other.fixed))
-                            || moving.is_some_and(|g| self.moving.in_closure(g, other.moving))
-                    })
-                };
-                for g in self.moving.edge(x).faces {
-                    if !others_touch(None, Some(ElementId::Face(g))) {
-                        let flat = rise / le;
-                        out.avoid.push(turn(de, self.moving.face(g).normal, -flat, flat));
-                    }
-                }
-                for f in self.fixed.edge(e).faces {
-                    if !others_touch(Some(ElementId::Face(f)), None) {
-                        let flat = rise / lx;
-                        out.avoid.push(turn(to_g(self.fixed.face(f).normal), dx, -flat, flat));
-                    }
-                }
                 // Two crossing convex edges touch only if the plane through both
                 // separates the parts' wedges: with n = e × R x and s = ±1, A's in-face
                 // directions u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both
