@@ -486,16 +486,9 @@ impl Problem<'_> {
                             let [p, q] = part.edge_points(x);
                             vec![(direction((q - p).normalize()), p.distance(q), false)]
                         }
-                        ElementId::Vertex(v) => part
-                            .vertex(v)
-                            .edges
-                            .iter()
-                            .map(|&x| {
-                                let [p, q] = part.edge_points(x);
-                                let at = part.vertex(v).position;
-                                let d = if p == at { q - p } else { p - q };
-                                (direction(d.normalize()), d.length(), true)
-                            })
+                        ElementId::Vertex(v) => edges_leaving(part, v)
+                            .into_iter()
+                            .map(|(d, length)| (direction(d), length, true))
                             .collect(),
                         ElementId::Face(_) => Vec::new(),
                     }

@@ -331,7 +331,7 @@ impl Prover<'_> {
         // A wide yaw alone does not stop it: heights over planes normal to z stay
         // linear (see `Turn::second_along`). (From effort 2 only until the test's cost
         // came down: at the default effort it decides 5 more of the fixture pairs'
-        // candidates for about an eighth more time.)
+        // candidates for about a tenth more CPU time.)
         if turn.tilts() > self.max_turn {
             return Some(*bounds);
         }
