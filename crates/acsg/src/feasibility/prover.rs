@@ -19,6 +19,7 @@
 
 use glam::{DAffine3, DVec3};
 
+mod along;
 mod linearised;
 
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
@@ -60,6 +61,9 @@ pub(crate) struct Links {
     /// The contacts of a vertex on a face, along a segment or over an area (f-v, v-f,
     /// f-f, f-e, e-f), by their elements: the two elements must share a point.
     overlaps: Vec<Overlap>,
+    /// Crossings whose edge may lie along a face at the other edge: a checker then
+    /// reads that edge on the face (a pair a witness keeps apart).
+    along: Vec<along::AlongFace>,
 }
 
 /// A contact of a vertex on a face, along a segment or over an area: some point lies
@@ -75,6 +79,7 @@ impl Links {
     /// wherever the target's contacts hold, other pairs touching or not.
     pub fn without_apart(mut self) -> Links {
         self.apart.clear();
+        self.along.clear();
         self
     }
 }
@@ -372,10 +377,10 @@ impl<'a> Prover<'a> {
         }
     }
 
-    /// The box of an element's closure (the fixed part's in G's frame), shrunk by the
-    /// margin when the contact point must keep off the element's boundary; `None` when
-    /// nothing is left.
-    fn element_box(&self, fixed: bool, e: ElementId, inside: bool) -> Option<(DVec3, DVec3)> {
+    /// The box of an element's closure (the fixed part's in G's frame), shrunk by
+    /// `inset` (the distance the contact point keeps off the element's boundary);
+    /// `None` when nothing is left.
+    fn element_box(&self, fixed: bool, e: ElementId, inset: f64) -> Option<(DVec3, DVec3)> {
         let (part, shape) = if fixed {
             (self.fixed, &self.a)
         } else {
@@ -385,7 +390,6 @@ impl<'a> Prover<'a> {
         // A disc (face) or segment (edge) of radius `margin` around the point stays in
         // the element, so in each axis the point keeps `margin · |extent of a unit step|`.
         let shrink = match e {
-            _ if !inside => DVec3::ZERO,
             ElementId::Face(f) => {
                 let n = shape.planes[f.index()].0;
                 (DVec3::ONE - n * n).max(DVec3::ZERO).to_array().map(f64::sqrt).into()
@@ -395,7 +399,7 @@ impl<'a> Prover<'a> {
                 (b - a).normalize().abs()
             }
             ElementId::Vertex(_) => DVec3::ZERO,
-        } * self.margin;
+        } * inset;
         let (lo, hi) = (lo + shrink, hi - shrink);
         lo.cmple(hi).all().then_some((lo, hi))
     }
@@ -458,6 +462,7 @@ impl<'a> Prover<'a> {
             held_rims,
             overlaps,
             straddles: self.straddles(target),
+            along: self.along_faces(target, self.margin),
         })
     }
 
@@ -512,15 +517,21 @@ impl<'a> Prover<'a> {
             // Point contacts in an element's interior keep off its boundary.
             // So do contacts along a segment or over an area: their region must be wider
             // than the separation, or some checker reads the neighbouring contact.
-            let (inside_a, inside_b) = match pc.kind {
-                ContactKind::FaceVertex | ContactKind::EdgeVertex => (true, false),
-                ContactKind::VertexFace | ContactKind::VertexEdge => (false, true),
-                ContactKind::VertexVertex => (false, false),
-                _ => (true, true),
+            // A crossing keeps the whole separation off both edges' ends: a checker
+            // reads a crossing nearer an end as that end's contact, and
+            // docs/concepts.md#tolerances asks a point contact to keep that far inside
+            // its elements (the rule for an edge along a face needs it).
+            let m = self.margin;
+            let (inset_a, inset_b) = match pc.kind {
+                ContactKind::FaceVertex | ContactKind::EdgeVertex => (m, 0.0),
+                ContactKind::VertexFace | ContactKind::VertexEdge => (0.0, m),
+                ContactKind::VertexVertex => (0.0, 0.0),
+                ContactKind::EdgeEdge => (2.0 * m, 2.0 * m),
+                _ => (m, m),
             };
             out.push(Link::Region {
-                a: self.element_box(true, ea, inside_a)?,
-                b: self.element_box(false, eb, inside_b)?,
+                a: self.element_box(true, ea, inset_a)?,
+                b: self.element_box(false, eb, inset_b)?,
             });
             if pc.kind == ContactKind::EdgeEdge {
                 if let (ElementId::Edge(x), ElementId::Edge(y)) = (ea, eb) {
@@ -675,6 +686,14 @@ impl<'a> Prover<'a> {
             }
         }
         if !links.overlaps.iter().all(|o| self.may_overlap(o, &turned.r, &t)) {
+            return None;
+        }
+        let separation = 2.0 * self.margin;
+        if links
+            .along
+            .iter()
+            .any(|a| self.lies_along(a, &turned.r, &t, separation))
+        {
             return None;
         }
         Some(with_translation(bounds, &t))
