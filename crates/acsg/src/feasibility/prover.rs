@@ -514,17 +514,17 @@ impl<'a> Prover<'a> {
         let mut out = Vec::new();
         for pc in target {
             let (ea, eb) = (pc.fixed, pc.moving);
-            // Point contacts in an element's interior keep off its boundary.
-            // So do contacts along a segment or over an area: their region must be wider
-            // than the separation, or some checker reads the neighbouring contact.
-            // A crossing keeps the whole separation off both edges' ends: a checker
-            // reads a crossing nearer an end as that end's contact, and
-            // docs/concepts.md#tolerances asks a point contact to keep that far inside
-            // its elements (the rule for an edge along a face needs it).
+            // A point contact keeps the whole separation inside its elements (a vertex
+            // in a face or on an edge, a crossing off both edges' ends): a checker reads
+            // a point nearer the boundary as the boundary's contact, and
+            // docs/concepts.md#tolerances asks a robust witness to keep that far in.
+            // Contacts along a segment or over an area keep half of it: their region
+            // must be wider than the separation, or some checker reads the neighbouring
+            // contact.
             let m = self.margin;
             let (inset_a, inset_b) = match pc.kind {
-                ContactKind::FaceVertex | ContactKind::EdgeVertex => (m, 0.0),
-                ContactKind::VertexFace | ContactKind::VertexEdge => (0.0, m),
+                ContactKind::FaceVertex | ContactKind::EdgeVertex => (2.0 * m, 0.0),
+                ContactKind::VertexFace | ContactKind::VertexEdge => (0.0, 2.0 * m),
                 ContactKind::VertexVertex => (0.0, 0.0),
                 ContactKind::EdgeEdge => (2.0 * m, 2.0 * m),
                 _ => (m, m),
@@ -1392,5 +1392,39 @@ mod tests {
             }
             assert!(checked > 20, "only {checked} states reached");
         }
+    }
+
+    /// A corner on a face keeps the whole separation off the face's rim, as a robust
+    /// witness does: three quarters of it in, the loosest checker reads the corner on
+    /// the rim and the prover excludes the pose; one and a half in, both take it.
+    #[test]
+    fn a_corner_keeps_the_separation_off_the_faces_rim() {
+        let (slab, cube) = crate::examples::cube_and_slab();
+        let bounds = Bounds::try_new([80.0, 80.0, -5.0, -0.5, -0.5, -0.5], [110.0, 110.0, 5.0, 0.5, 0.5, 0.5]).unwrap();
+        let problem = super::super::Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
+        let separation = scaled(SEPARATION_REL, problem.scale);
+        // The cube hangs over the slab's corner (100, 100, 0), its bottom face tilted
+        // to rise over the slab, resting on the corner `inside` from the face's edge
+        // at x = 10 (in the cube's frame), which lies beyond the slab.
+        let turn = [-0.2, 0.2, 0.0];
+        let turned = Pose::from_array([0.0, 0.0, 0.0, turn[0], turn[1], turn[2]]).to_affine(&DAffine3::IDENTITY);
+        let at = |inside: f64| {
+            let t = DVec3::new(100.0, 100.0, 0.0) - turned.transform_point3(DVec3::new(10.0 - inside, 5.0, 0.0));
+            [t.x, t.y, t.z, turn[0], turn[1], turn[2]]
+        };
+        let deep = at(1.5 * separation);
+        let state = problem
+            .scene()
+            .evaluate(&Pose::from_array(deep).to_affine(&DAffine3::IDENTITY), CONTACT_REL)
+            .contacts;
+        assert!(
+            state.len() == 1 && state[0].kind == ContactKind::VertexFace,
+            "{state:?}"
+        );
+        assert_eq!(problem.clean_state(&Pose::from_array(deep)), Some(state.clone()));
+        assert_eq!(problem.exclusion(&state, &around(deep, 0.0)), None);
+        let shallow = at(0.75 * separation);
+        assert_eq!(problem.clean_state(&Pose::from_array(shallow)), None);
+        assert!(problem.exclusion(&state, &around(shallow, 0.0)).is_some());
     }
 }
