@@ -24,3 +24,44 @@ pub(crate) fn edge_between(part: &crate::model::Part, p: glam::DVec3, q: glam::D
     });
     ElementId::Edge(EdgeId(found.expect("no such edge") as u32))
 }
+
+/// A fixture model by file name (`fixtures/` at the repository's root).
+pub(crate) fn fixture(name: &str) -> crate::model::Part {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+    crate::model::Part::from_path(&root.join(name)).expect("fixture loads")
+}
+
+/// A principal contact by its elements' names (`"f3"`, `"e10"`, `"v2"`).
+pub(crate) fn contact(
+    fixed: &str,
+    moving: &str,
+    kind: crate::contact::ContactKind,
+) -> crate::contact::PrincipalContact {
+    crate::contact::PrincipalContact {
+        fixed: fixed.parse().expect("an element name"),
+        moving: moving.parse().expect("an element name"),
+        kind,
+    }
+}
+
+/// A state of the built-in example (sorted) with its witness: the box on the L-block's
+/// step against its wall, its top edge turned 7.7e-5 rad and crossing the wall's top
+/// edge 2.8e-3 mm from that edge's end, the wall edge lying along the box's face there.
+pub(crate) fn grazing_crossing() -> (Vec<crate::contact::PrincipalContact>, [f64; 6]) {
+    use crate::contact::ContactKind as K;
+    let mut state = vec![
+        contact("f3", "f2", K::FaceFace),
+        contact("f5", "e11", K::FaceEdge),
+        contact("e10", "e10", K::EdgeEdge),
+    ];
+    state.sort();
+    let witness = [
+        -0.006902579441998569,
+        0.0,
+        3.213270360902243e-7,
+        0.0,
+        2.142180201833669e-9,
+        -7.669903939428206e-5,
+    ];
+    (state, witness)
+}

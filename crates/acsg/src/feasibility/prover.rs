@@ -1028,6 +1028,25 @@ pub(crate) fn implied(fixed: &Part, moving: &Part, target: &[PrincipalContact], 
     })
 }
 
+/// Whether no contact of `target` other than `pc` touches the closure of `face` (of
+/// the fixed part when `fixed_side`, else of the moving part): then a checker reading
+/// an edge on that face reads a contact the target does not hold.
+pub(crate) fn face_untouched(
+    (fixed, moving): (&Part, &Part),
+    target: &[PrincipalContact],
+    pc: &PrincipalContact,
+    fixed_side: bool,
+    face: ElementId,
+) -> bool {
+    target.iter().filter(|&other| other != pc).all(|other| {
+        if fixed_side {
+            !fixed.in_closure(face, other.fixed)
+        } else {
+            !moving.in_closure(face, other.moving)
+        }
+    })
+}
+
 /// A box with its translation intervals replaced (they only ever narrow inside it).
 fn with_translation(bounds: &Bounds, t: &IVec) -> Bounds {
     let (mut lo, mut hi) = (bounds.min.to_array(), bounds.max.to_array());
@@ -1184,14 +1203,7 @@ const FAR: f64 = 1e15;
 mod tests {
     use super::*;
     use crate::pose::Pose;
-    use crate::testing::edge_between;
-
-    fn fixture(name: &str) -> Part {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../fixtures")
-            .join(name);
-        Part::from_path(&path).unwrap()
-    }
+    use crate::testing::{edge_between, fixture};
 
     #[test]
     fn a_convex_part_knows_its_sharpest_corner_and_a_box_its_distance_from_a_rim() {

@@ -763,6 +763,7 @@ fn subtract(x: &[(f64, f64)], cut: Intervals) -> Intervals {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::fixture;
 
     #[test]
     fn repeated_equations_drop_out_and_contradicting_ones_fail() {
@@ -785,11 +786,6 @@ mod tests {
             intersect(&[(0.0, 2.0), (4.0, 9.0)], &[(1.0, 5.0)]),
             vec![(1.0, 2.0), (4.0, 5.0)]
         );
-    }
-
-    fn fixture(name: &str) -> Part {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
-        Part::from_path(&root.join(name)).expect("fixture loads")
     }
 
     /// The peg over a block, x and y within ±2, z from 0 to 45, each angle within ±2°.

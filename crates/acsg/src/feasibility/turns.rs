@@ -14,7 +14,7 @@ use glam::DVec3;
 
 use super::Problem;
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
-use super::prover::implied;
+use super::prover::{face_untouched, implied};
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::Aabb;
 use crate::model::{ElementId, FaceId, Part, VertexId};
@@ -518,15 +518,8 @@ impl Problem<'_> {
     /// face's closure).
     fn add_lying(&self, pc: &PrincipalContact, target: &[PrincipalContact], rise: f64, out: &mut Turns) {
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
-        let untouched = |fixed_side: bool, face: ElementId| {
-            target.iter().filter(|&other| other != pc).all(|other| {
-                if fixed_side {
-                    !self.fixed.in_closure(face, other.fixed)
-                } else {
-                    !self.moving.in_closure(face, other.moving)
-                }
-            })
-        };
+        let untouched =
+            |fixed_side: bool, face: ElementId| face_untouched((self.fixed, self.moving), target, pc, fixed_side, face);
         match (pc.fixed, pc.moving) {
             (ElementId::Edge(e), ElementId::Vertex(v)) => {
                 let faces = self.fixed.edge(e).faces.into_iter().zip(self.fixed.edge_wedge(e));
@@ -610,25 +603,7 @@ mod tests {
         // module reads the state at this pose, so no rotation rule may exclude it.
         let (a, b) = crate::examples::l_block_and_box();
         let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
-        let contact = |fixed: &str, moving: &str, kind| PrincipalContact {
-            fixed: fixed.parse().unwrap(),
-            moving: moving.parse().unwrap(),
-            kind,
-        };
-        let mut target = vec![
-            contact("f3", "f2", K::FaceFace),
-            contact("f5", "e11", K::FaceEdge),
-            contact("e10", "e10", K::EdgeEdge),
-        ];
-        target.sort();
-        let x = [
-            -0.006902579441998569,
-            0.0,
-            3.213270360902243e-7,
-            0.0,
-            2.142180201833669e-9,
-            -7.669903939428206e-5,
-        ];
+        let (target, x) = crate::testing::grazing_crossing();
         assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(target.clone()));
         let at = Bounds::try_new(x, x).unwrap();
         assert!(problem.turns(&target).may_hold(&at));
@@ -637,7 +612,7 @@ mod tests {
         let mut far = x;
         far[5] = -0.1;
         let at_far = Bounds::try_new(far, far).unwrap();
-        let only_crossing = [contact("e10", "e10", K::EdgeEdge)];
+        let only_crossing = [crate::testing::contact("e10", "e10", K::EdgeEdge)];
         let turns = problem.turns(&only_crossing);
         assert!(turns.wedges.iter().any(|w| !w.sides(&rotation_enclosure(&at_far)).0));
     }

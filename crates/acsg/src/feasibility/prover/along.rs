@@ -15,7 +15,7 @@
 
 use glam::DVec3;
 
-use super::{IVec, Prover, add, cross, dot, mat_vec, point, sub};
+use super::{IVec, Prover, add, cross, dot, face_untouched, mat_vec, point, sub};
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::feasibility::interval::{Interval, IntervalMat};
 use crate::geometry::{Segment, segment_segment};
@@ -116,13 +116,7 @@ impl Prover<'_> {
                 continue;
             };
             let untouched = |fixed_side: bool, face: ElementId| {
-                target.iter().filter(|&other| other != pc).all(|other| {
-                    if fixed_side {
-                        !self.fixed.in_closure(face, other.fixed)
-                    } else {
-                        !self.moving.in_closure(face, other.moving)
-                    }
-                })
+                face_untouched((self.fixed, self.moving), target, pc, fixed_side, face)
             };
             let [a0, a1] = self.fixed.edge(x).vertices.map(|v| self.a.vertices[v.index()]);
             let [b0, b1] = self.moving.edge(y).vertices.map(|v| self.b.vertices[v.index()]);
@@ -251,22 +245,8 @@ mod tests {
     use crate::contact::ContactKind as K;
     use crate::feasibility::Problem;
     use crate::pose::{Bounds, Pose};
+    use crate::testing::{contact, fixture, grazing_crossing};
     use crate::tolerance::{CONTACT_REL, SEPARATION_REL, scaled};
-
-    fn fixture(name: &str) -> Part {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../fixtures")
-            .join(name);
-        Part::from_path(&path).unwrap()
-    }
-
-    fn contact(fixed: &str, moving: &str, kind: K) -> PrincipalContact {
-        PrincipalContact {
-            fixed: fixed.parse().unwrap(),
-            moving: moving.parse().unwrap(),
-            kind,
-        }
-    }
 
     /// Whether some crossing of `target` has its edge read on a face over the box.
     fn lies_somewhere(problem: &Problem<'_>, target: &[PrincipalContact], b: &Bounds) -> bool {
@@ -372,20 +352,7 @@ mod tests {
         // the crossing on its own.
         let (a, b) = crate::examples::l_block_and_box();
         let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), DAffine3::IDENTITY);
-        let mut state = vec![
-            contact("f3", "f2", K::FaceFace),
-            contact("f5", "e11", K::FaceEdge),
-            contact("e10", "e10", K::EdgeEdge),
-        ];
-        state.sort();
-        let x = [
-            -0.006902579441998569,
-            0.0,
-            3.213270360902243e-7,
-            0.0,
-            2.142180201833669e-9,
-            -7.669903939428206e-5,
-        ];
+        let (state, x) = grazing_crossing();
         assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(state.clone()));
         let at = Bounds::try_new(x, x).unwrap();
         assert!(!lies_somewhere(&problem, &state, &at));
