@@ -71,6 +71,17 @@ impl Interval {
         self.hi - self.lo
     }
 
+    /// `x²` over the interval (never below zero, unlike `self.mul(self)`).
+    pub fn square(self) -> Interval {
+        let most = self.lo.abs().max(self.hi.abs());
+        let least = if self.contains_zero() {
+            0.0
+        } else {
+            self.lo.abs().min(self.hi.abs())
+        };
+        Interval::new(least * least, most * most)
+    }
+
     /// cos over an angle interval.
     pub fn cos(self) -> Interval {
         if self.hi - self.lo >= std::f64::consts::TAU {

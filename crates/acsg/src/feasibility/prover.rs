@@ -387,8 +387,8 @@ impl<'a> Prover<'a> {
             (self.moving, &self.b)
         };
         let (lo, hi) = bounds_of(part.closure_vertices(e).iter().map(|v| shape.vertices[v.index()]));
-        // A disc (face) or segment (edge) of radius `margin` around the point stays in
-        // the element, so in each axis the point keeps `margin · |extent of a unit step|`.
+        // A disc (face) or segment (edge) of radius `inset` around the point stays in
+        // the element, so in each axis the point keeps `inset · |extent of a unit step|`.
         let shrink = match e {
             ElementId::Face(f) => {
                 let n = shape.planes[f.index()].0;
@@ -462,7 +462,7 @@ impl<'a> Prover<'a> {
             held_rims,
             overlaps,
             straddles: self.straddles(target),
-            along: self.along_faces(target, self.margin),
+            along: self.along_faces(target),
         })
     }
 
@@ -688,12 +688,7 @@ impl<'a> Prover<'a> {
         if !links.overlaps.iter().all(|o| self.may_overlap(o, &turned.r, &t)) {
             return None;
         }
-        let separation = 2.0 * self.margin;
-        if links
-            .along
-            .iter()
-            .any(|a| self.lies_along(a, &turned.r, &t, separation))
-        {
+        if links.along.iter().any(|a| self.lies_along(a, &turned.r, &t)) {
             return None;
         }
         Some(with_translation(bounds, &t))

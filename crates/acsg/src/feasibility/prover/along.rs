@@ -109,7 +109,9 @@ fn face_reach(part: &Part, f: FaceId, b: EdgeId) -> (f64, f64, [bool; 2]) {
 impl Prover<'_> {
     /// The [`AlongFace`]s of a target's crossings: each edge against each face at the
     /// other edge, unless another contact of the target touches that face's closure.
-    pub(super) fn along_faces(&self, target: &[PrincipalContact], rise: f64) -> Vec<AlongFace> {
+    pub(super) fn along_faces(&self, target: &[PrincipalContact]) -> Vec<AlongFace> {
+        // Half the separation: the prover's margin.
+        let rise = self.margin;
         let mut out = Vec::new();
         for pc in target {
             let (ContactKind::EdgeEdge, ElementId::Edge(x), ElementId::Edge(y)) = (pc.kind, pc.fixed, pc.moving) else {
@@ -175,7 +177,8 @@ impl Prover<'_> {
     /// where the crossing holds has the lying edge read on the face: flat against its
     /// plane, turned to one side of the held edge, and crossing far enough from the
     /// lying edge's end on the face's side and from the held edge's ends.
-    pub(super) fn lies_along(&self, f: &AlongFace, r: &IntervalMat, t: &IVec, separation: f64) -> bool {
+    pub(super) fn lies_along(&self, f: &AlongFace, r: &IntervalMat, t: &IVec) -> bool {
+        let separation = 2.0 * self.margin;
         let (da, w) = (point(f.da), mat_vec(r, f.db));
         let (flat, into) = if f.fixed_lies {
             (dot(da, mat_vec(r, f.normal)), dot(da, mat_vec(r, f.into)))
@@ -188,16 +191,7 @@ impl Prover<'_> {
         // The lying edge's sine across the held edge within the face's plane.
         let across = into.lo.abs().min(into.hi.abs());
         let n = cross(da, w);
-        let square = |v: Interval| {
-            let m = v.lo.abs().max(v.hi.abs());
-            let least = if v.contains_zero() {
-                0.0
-            } else {
-                v.lo.abs().min(v.hi.abs())
-            };
-            Interval::new(least * least, m * m)
-        };
-        let nn = square(n[0]).add(square(n[1])).add(square(n[2]));
+        let nn = n[0].square().add(n[1].square()).add(n[2].square());
         if nn.lo <= 0.0 {
             return false;
         }
@@ -257,10 +251,23 @@ mod tests {
             Interval::new(b.min.y, b.max.y),
             Interval::new(b.min.z, b.max.z),
         ];
-        prover
-            .along_faces(target, prover.margin)
-            .iter()
-            .any(|a| prover.lies_along(a, &r, &t, 2.0 * prover.margin))
+        prover.along_faces(target).iter().any(|a| prover.lies_along(a, &r, &t))
+    }
+
+    /// The square peg over the plain hole, x and y within ±1, z from 0 to 45, tilted up
+    /// to 1° about x and y, no yaw.
+    fn tilted() -> Bounds {
+        let r = 1f64.to_radians();
+        Bounds::try_new([-1.0, -1.0, 0.0, -r, -r, 0.0], [1.0, 1.0, 45.0, r, r, 0.0]).unwrap()
+    }
+
+    /// The peg turned by `roll` about x and -0.01 rad about y, leaning the point of its
+    /// upright corner edge (e0) at `height` (in its frame) on the hole's rim edge (e11),
+    /// 1.5 mm from the rim's end.
+    fn lean(roll: f64, height: f64) -> [f64; 6] {
+        let turned = Pose::from_array([0.0, 0.0, 0.0, roll, -0.01, 0.0]).to_affine(&DAffine3::IDENTITY);
+        let t = DVec3::new(35.0, 36.5, 50.0) - turned.transform_point3(DVec3::new(36.0, 36.0, height));
+        [t.x, t.y, t.z, roll, -0.01, 0.0]
     }
 
     #[test]
@@ -271,15 +278,8 @@ mod tests {
         // contact module reads the rim on the face, so the crossing alone has no
         // witness in a box around the pose, and this rule alone proves it.
         let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let r = 1f64.to_radians();
-        let full = Bounds::try_new([-1.0, -1.0, 0.0, -r, -r, 0.0], [1.0, 1.0, 45.0, r, r, 0.0]).unwrap();
-        let problem = Problem::new(&hole, &peg, full, DAffine3::IDENTITY);
-        let tilt = -0.01;
-        let turned = Pose::from_array([0.0, 0.0, 0.0, 0.0, tilt, 0.0]).to_affine(&DAffine3::IDENTITY);
-        // The corner edge's point at height 60 (in the peg's frame) onto the rim edge,
-        // 1.5 mm from its end.
-        let t = DVec3::new(35.0, 36.5, 50.0) - turned.transform_point3(DVec3::new(36.0, 36.0, 60.0));
-        let pose = [t.x, t.y, t.z, 0.0, tilt, 0.0];
+        let problem = Problem::new(&hole, &peg, tilted(), DAffine3::IDENTITY);
+        let pose = lean(0.0, 60.0);
         let read = problem
             .scene()
             .evaluate(&Pose::from_array(pose).to_affine(&DAffine3::IDENTITY), CONTACT_REL)
@@ -313,16 +313,10 @@ mod tests {
         // turned away from the corner's other edge (the peg's bottom edge) by a roll of
         // the peg, keeps that distance off it all along the face.
         let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let r = 1f64.to_radians();
-        let full = Bounds::try_new([-1.0, -1.0, 0.0, -r, -r, 0.0], [1.0, 1.0, 45.0, r, r, 0.0]).unwrap();
-        let problem = Problem::new(&hole, &peg, full, DAffine3::IDENTITY);
+        let problem = Problem::new(&hole, &peg, tilted(), DAffine3::IDENTITY);
         let above = 2.0 * scaled(SEPARATION_REL, problem.scale);
         let crossing = [contact("e11", "e0", K::EdgeEdge)];
-        let at = |roll: f64| {
-            let turned = Pose::from_array([0.0, 0.0, 0.0, roll, -0.01, 0.0]).to_affine(&DAffine3::IDENTITY);
-            let t = DVec3::new(35.0, 36.5, 50.0) - turned.transform_point3(DVec3::new(36.0, 36.0, 10.0 + above));
-            [t.x, t.y, t.z, roll, -0.01, 0.0]
-        };
+        let at = |roll: f64| lean(roll, 10.0 + above);
         // Rolled one way, the rim edge runs from the crossing up the face, away from the
         // bottom edge: the rule holds, and no checker reads the crossing alone there.
         let away = at(-0.005);
