@@ -362,6 +362,46 @@ def block_with_plus_hole_mesh():
     return holed_block_mesh("block_with_plus_hole", rings, [11, 14, 17, 20])
 
 
+HEX_Q = 2 ** 20  # hexagon coordinates are rounded to multiples of 2^-20
+
+
+def hex_half_height(r):
+    """r sin(60 deg) = r sqrt(3)/2 rounded to the nearest multiple of 2^-20, as an
+    exact Fraction (60-digit decimal, so platform independent; never a tie)."""
+    with localcontext() as ctx:
+        ctx.prec = DPREC
+        return F(round(Decimal(3).sqrt() / 2 * r * HEX_Q), HEX_Q)
+
+
+def hex_ring(r):
+    """The regular hexagon of circumradius r centred at (50, 50), vertex k at angle
+    60 k deg (CCW seen from +z), every coordinate rounded to the nearest multiple
+    of 2^-20: cos 60k deg is +-1/2 or +-1, so only the y = 50 +- r sqrt(3)/2
+    coordinates are rounded (round(50 q + x) = 50 q + round(x), round(-x) =
+    -round(x): the rounded hexagon keeps both mirror symmetries). Exact binary
+    fractions, so the faces over it are exactly planar."""
+    c, h, hr = F(50), hex_half_height(r), F(r, 2)
+    return [(c + r, c), (c + hr, c + h), (c - hr, c + h), (c - r, c), (c - hr, c - h), (c + hr, c - h)]
+
+
+def hex_area(r):
+    """Exact area of `hex_ring(r)`: the rectangle |x - 50| <= r/2, |y - 50| <= h
+    (r * 2h) plus two triangles of base 2h and height r/2 (r h together): 3 r h."""
+    return 3 * r * hex_half_height(r)
+
+
+def hex_peg_mesh():
+    # circumradius 14, z[10,90]
+    return prism_mesh("hex_peg", hex_ring(14))
+
+
+def block_with_hex_hole_mesh():
+    # circumradius 15, same phase as the peg: 1 mm clearance at the corners, cos 30 deg across the flats;
+    # corners (0,0), (100,0), (100,100), (0,100) joined to the hole vertices at 240, 300, 420 = 60, 480 = 120 deg
+    rings = [(0, hex_ring(15)), (50, hex_ring(15))]
+    return holed_block_mesh("block_with_hex_hole", rings, [4, 5, 7, 8])
+
+
 def round_peg_mesh(n_sides=N_ROUND, name="round_peg"):
     return prism_mesh(name, ngon_xy(50, 50, Decimal(14), n_sides))
 
@@ -897,6 +937,9 @@ GOOD = [
     # plus outlines: 20 * 50 + 2 * 15 * 20 = 1600 (peg), 22 * 52 + 2 * 15 * 22 = 1804 (hole)
     (plus_peg_mesh(), 1600 * 80, (14, 0, 24, 16, 36, 32, 4)),
     (block_with_plus_hole_mesh(), 100 * 100 * 50 - 1804 * 50, (18, 2, 32, 16, 48, 40, 8)),
+    # hexagons of the rounded coordinates: exact area 3 r h, h = r sqrt(3)/2 rounded to 2^-20
+    (hex_peg_mesh(), hex_area(14) * 80, (8, 0, 12, 12, 18, 18, 0)),
+    (block_with_hex_hole_mesh(), 100 * 100 * 50 - hex_area(15) * 50, (12, 2, 20, 8, 30, 24, 6)),
 ]
 BINARY = {"l_block", "box"}
 PLY = {"l_block"}
@@ -923,7 +966,8 @@ GOOD += [
 ]
 ROUND = {"round_peg", "block_with_round_hole"}
 NO_OBJ = {"block_with_chamfered_hole", "round_peg", "block_with_round_hole",
-          "block_with_tight_hole", "plus_peg", "block_with_plus_hole"}  # .off + .stl only
+          "block_with_tight_hole", "plus_peg", "block_with_plus_hole",
+          "hex_peg", "block_with_hex_hole"}  # .off + .stl only
 
 
 # The scaling series (the `scale` benchmark): an n-gon peg over a block with a
@@ -1075,6 +1119,11 @@ DESCRIPTIONS = {
     "block_with_plus_hole": "block x,y[0,100] z[0,50] with a plus-shaped through-hole, the peg's outline grown "
                             "by 1 on every side (arms [39,61] reaching from 24 to 76): 1 mm clearance on every "
                             "side, so three parallel walls touch at once (part A; goes with `plus_peg`)",
+    "hex_peg": "regular hexagonal prism, circumradius 14, axis x=y=50, z[10,90], vertex k at angle 60k deg, "
+               "coordinates rounded to multiples of 2^-20 (part B)",
+    "block_with_hex_hole": "block x,y[0,100] z[0,50] with a regular hexagonal through-hole of circumradius 15 "
+                           "(same phase and rounding as `hex_peg`): 1 mm clearance at the corners, cos 30 deg "
+                           "~ 0.866 mm across the flats (part A; goes with `hex_peg`)",
 }
 
 
@@ -1115,7 +1164,8 @@ def readme_text():
              "Do not edit by hand; rerun the script. Units: mm. A and B parts are given in the same "
              "frame at the assembled pose (A fixed, B moving): `l_block` + `box`, `block_with_hole` + `peg`, "
              "`block_with_chamfered_hole` + `peg`, `block_with_round_hole` + `round_peg`, "
-             "`block_with_tight_hole` + `peg`, `block_with_plus_hole` + `plus_peg`.")
+             "`block_with_tight_hole` + `peg`, `block_with_plus_hole` + `plus_peg`, "
+             "`block_with_hex_hole` + `hex_peg`.")
     L.append("")
     L.append("`scale/` holds the scaling series of the `scale` benchmark: `round_peg_N` + "
              "`block_with_round_hole_N` for N = " + ", ".join(str(n) for n in SCALE_SIDES) + ", built as the "
@@ -1138,8 +1188,8 @@ def readme_text():
              "`block_with_round_hole`, each split into 4 non-convex 11-gons (2 block corners + 9 hole vertices, "
              "cut along the joins from the block corners to the hole vertices at 45/135/225/315 deg); "
              "no T-junctions. The newer models (`block_with_chamfered_hole`, `round_peg`, "
-             "`block_with_round_hole`, `block_with_tight_hole`, `plus_peg`, `block_with_plus_hole`) have `.off` "
-             "and `.stl` only.")
+             "`block_with_round_hole`, `block_with_tight_hole`, `plus_peg`, `block_with_plus_hole`, `hex_peg`, "
+             "`block_with_hex_hole`) have `.off` and `.stl` only.")
     L.append("* `.stl` (ASCII): polygons triangulated (fan for convex, ear clipping for the L caps and the "
              "11-gons) and then refined once by 1-to-4 midpoint subdivision (conforming). Readers must merge "
              "coplanar triangles and the vertices that only split straight edges. For the round parts each "
@@ -1234,6 +1284,31 @@ def readme_text():
              "100 x 100 x 50 - 50 x (22 x 52 + 2 x 15 x 22) = 500,000 - 50 x 1804 = 409,800. The top and "
              "bottom are each split into 4 non-convex hexagons by the joins from the block corners to the "
              "hole's reflex corners.")
+    L.append("* `hex_peg`: 2 caps + 6 sides = 8 faces; 6 x 2 = 12 vertices; 6 x 2 rim + 6 vertical = 18 "
+             "edges (12 - 18 + 8 = 2). All convex: rims 90 deg, side/side 120 deg (the hexagon's interior "
+             "angle), so 12 convex vertices and 18 convex edges. Coordinates: cos 60k deg is +-1/2 or +-1, so "
+             "x = 50 +- r and 50 +- r/2 are exact; y = 50 +- h(r) with h(r) = round(r sqrt(3)/2 x 2^20) / 2^20 "
+             "(60-digit decimal; never a tie, and round(50 x 2^20 +- x) = 50 x 2^20 +- round(x), so the rounded "
+             "hexagon keeps both mirror symmetries). h(14) = 12713308 / 2^20 = 3178327/262144 = "
+             "12.124355316162109375 (7 sqrt 3 = 12.1243556530...). The rounded hexagon is the rectangle "
+             "|x - 50| <= r/2, |y - 50| <= h plus two triangles of base 2h and height r/2: exact area "
+             "2rh + rh = 3rh (within 3r 2^-21 of 3 sqrt(3)/2 r^2). Volume 80 x 3 x 14 x h(14) = 3360 h(14) = "
+             "333724335/8192 ~ 40,737.834 (unrounded 80 x 3 sqrt(3)/2 x 14^2 ~ 40,737.835).")
+    L.append("* `block_with_hex_hole`: 4 outer walls + top + bottom + 6 hole walls = 12 faces, 2 with holes; "
+             "8 + 6 x 2 = 20 vertices; 12 outer + 6 top rim + 6 bottom rim + 6 vertical hole edges = 30 edges "
+             "(20 - 30 + 12 - 2 = 0, genus 1). The hole is a convex prism: at each vertical hole edge the empty "
+             "space is a 120 deg wedge, so the material angle is 360 - 120 = 240 deg: 6 concave edges; the rims "
+             "make 90 deg, convex like the outer box: 24 convex, 6 concave. Every hole vertex ends a concave "
+             "edge: only the 8 outer corners are convex vertices. h(15) = 13621402 / 2^20 = 6810701/524288 = "
+             "12.9903812408447265625 (7.5 sqrt 3 = 12.9903810567...). Volume 100 x 100 x 50 - 50 x 3 x 15 x "
+             "h(15) = 500,000 - 2250 h(15) = 123409961375/262144 ~ 470,771.642. The block corners (0,0), "
+             "(100,0), (100,100), (0,100) are joined to the hole vertices at 240, 300, 60, 120 deg, so the top "
+             "and bottom are each split into 2 trapezoids (below and above the hole) and 2 non-convex pentagons "
+             "(left and right: 2 block corners + 3 hole vertices, reflex at the hole vertex at 180 resp. 0 deg). "
+             "Clearance to `hex_peg`: 15 - 14 = 1 at the corners, about cos 30 deg ~ 0.866 across the flats: "
+             "h(15) - h(14) = 0.8660259246826171875 across the flats y = 50 +- h; the rounding tilts the "
+             "slanted flats of peg and hole against each other by ~1.8e-8 rad, so there the clearance runs "
+             "from 0.86602541 to 0.86602566 along the flat.")
     L.append("")
     L.append("## Bad inputs (`bad/`)")
     L.append("")
