@@ -25,10 +25,11 @@ use glam::{DAffine3, DMat3, DVec3};
 use rayon::prelude::*;
 
 use super::Problem;
-use crate::contact::PrincipalContact;
+use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::{Aabb, ConvexPolytope, Segment, clip_convex, newell, plane_basis, point_segment};
 use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use crate::pose::{Bounds, Pose, euler_zyx};
+use crate::tolerance::SEPARATION_REL;
 
 /// How many rotations a sweep takes: always the centre of the rotation bounds, the
 /// identity (when inside) and the corners, then the counts here.
@@ -73,6 +74,12 @@ impl Density {
     };
 }
 
+/// How far inside each end of a stretch where two facets meet the sweep also reads the
+/// state, in separations.
+const INSET_SEPARATIONS: f64 = 4.0;
+/// The turns off an open box's centre that [`Problem::states_in_open_box`] also
+/// takes, in parts of each free angle's bounds.
+const OPEN_BOX_STEPS: [f64; 4] = [0.01, 0.03, 0.1, 0.3];
 /// The factors of [`Density::shrunk`].
 const SHRUNK: [f64; 3] = [0.1, 0.01, 0.001];
 /// Turns about an aligned face's normal tried per alignment.
@@ -108,6 +115,73 @@ impl Problem<'_> {
         let sweep = self.sweep(within);
         let slices = sweep.rotations(self.fixed, self.moving, density);
         self.states_at(&sweep, &slices, degenerate)
+    }
+
+    /// The states that show in `open`, a box of poses that the decision of `target`
+    /// (its contacts) left open: at the box's rotations as [`Density::LOCAL`] takes
+    /// them, and at each of those carried onto the alignments that `target`'s contacts
+    /// need (an edge lying in a face, a face on a face, collinear edges), at
+    /// translations within the box. Those contacts hold only where the rotation keeps
+    /// their alignments exactly, a set of measure zero that the box's own rotations
+    /// miss; a box the prover cannot close around such a state (a face balanced on a
+    /// rim edge, at the largest offset the bounds allow) holds the state there.
+    #[must_use]
+    pub fn states_in_open_box(&self, open: &Bounds, target: &[PrincipalContact], degenerate: bool) -> SliceFinds {
+        let sweep = self.sweep(open);
+        let mut slices = sweep.rotations(self.fixed, self.moving, Density::LOCAL);
+        let alignments = sweep.alignments_of(self.fixed, self.moving, target);
+        let (lo, hi) = (self.bounds.min.to_array(), self.bounds.max.to_array());
+        let free: [bool; 3] = std::array::from_fn(|k| hi[k + 3] > lo[k + 3]);
+        let inside = |a: &[f64; 3]| (0..3).all(|k| a[k] >= lo[k + 3] && a[k] <= hi[k + 3]);
+        // Every alignment alone, and every two at once (carried_onto keeps at most two).
+        let mut sets: Vec<Vec<Perpendicular>> = alignments.iter().map(|a| vec![*a]).collect();
+        for (i, a) in alignments.iter().enumerate() {
+            sets.extend(alignments[i + 1..].iter().map(|b| vec![*a, *b]));
+        }
+        let carry = |bases: &[[f64; 3]], out: &mut Vec<[f64; 3]>| {
+            for base in bases {
+                for set in &sets {
+                    if let Some(on) = carried_onto(*base, free, set)
+                        && inside(&on)
+                        && !out.iter().any(|b| (0..3).all(|k| (on[k] - b[k]).abs() < 1e-15))
+                    {
+                        out.push(on);
+                    }
+                }
+            }
+        };
+        let bases = slices.clone();
+        carry(&bases, &mut slices);
+        let mut finds = self.states_at(&sweep, &slices, degenerate);
+        if sets.is_empty() {
+            return finds;
+        }
+        // The box may lie where the target's region along its alignments is too narrow
+        // for a witness, next to where it is wide enough: turns off the box's centre
+        // along each free angle, carried onto the alignments, at translations anywhere
+        // in the bounds.
+        let c = open.center().to_array();
+        let mut stepped = Vec::new();
+        for k in (0..3).filter(|&k| free[k]) {
+            for step in OPEN_BOX_STEPS {
+                for sign in [-1.0, 1.0] {
+                    let mut a = [c[3], c[4], c[5]];
+                    a[k] = (a[k] + sign * step * (hi[k + 3] - lo[k + 3])).clamp(lo[k + 3], hi[k + 3]);
+                    stepped.push(a);
+                }
+            }
+        }
+        let mut turned = Vec::new();
+        carry(&stepped, &mut turned);
+        let wide = self.states_at(&self.sweep(self.bounds()), &turned, degenerate);
+        finds.slices += wide.slices;
+        finds.samples += wide.samples;
+        for (state, pose) in wide.states {
+            if !finds.states.iter().any(|(s, _)| *s == state) {
+                finds.states.push((state, pose));
+            }
+        }
+        finds
     }
 
     /// The states that show at rotations close to each of `seeds` (witnesses of states
@@ -432,10 +506,14 @@ impl Sweep {
                 out.push(centroid(&region));
             }
         }
+        let ends = Ends {
+            every: self.thorough,
+            inset: INSET_SEPARATIONS * SEPARATION_REL * self.scale,
+        };
         for (i, (m1, f1)) in facets.iter().enumerate() {
             for (m2, f2) in &facets[i + 1..] {
                 if m1 != m2 {
-                    meeting_points(f1, f2, [*m1, *m2], &differences, tol, self.thorough, &mut out);
+                    meeting_points(f1, f2, [*m1, *m2], &differences, tol, ends, &mut out);
                 }
             }
         }
@@ -568,9 +646,64 @@ impl Sweep {
         for (m, f) in pairs {
             // An edge along a normal of the other part's face gives the same condition
             // as that face's normal across the edge: keep one.
-            let same = |p: &Perpendicular| p.moving.dot(m).abs() > 1.0 - 1e-12 && p.fixed.dot(f).abs() > 1.0 - 1e-12;
-            if !out.iter().any(same) {
-                out.push(Perpendicular { moving: m, fixed: f });
+            let p = Perpendicular { moving: m, fixed: f };
+            if !out.iter().any(|q| q.same_as(&p)) {
+                out.push(p);
+            }
+        }
+        out
+    }
+
+    /// The alignments `target`'s contacts need, each once: an edge lying in a face
+    /// (one), a face on a face and collinear edges (two each).
+    fn alignments_of(&self, fixed: &Part, moving: &Part, target: &[PrincipalContact]) -> Vec<Perpendicular> {
+        let normal = |part: &Part, e: ElementId| match e {
+            ElementId::Face(f) => Some(part.face(f).normal),
+            _ => None,
+        };
+        let direction = |part: &Part, e: ElementId| match e {
+            ElementId::Edge(id) => Some(part.edge_direction(id)),
+            _ => None,
+        };
+        let mut out: Vec<Perpendicular> = Vec::new();
+        for pc in target {
+            let across = |fixed_axis: DVec3, moving: DVec3| {
+                let (u, v) = plane_basis(self.to_frame * fixed_axis);
+                [Perpendicular { moving, fixed: u }, Perpendicular { moving, fixed: v }]
+            };
+            let found: Vec<Perpendicular> = match pc.kind {
+                ContactKind::EdgeFace => direction(fixed, pc.fixed)
+                    .zip(normal(moving, pc.moving))
+                    .map(|(d, n)| {
+                        vec![Perpendicular {
+                            moving: n,
+                            fixed: self.to_frame * d,
+                        }]
+                    })
+                    .unwrap_or_default(),
+                ContactKind::FaceEdge => normal(fixed, pc.fixed)
+                    .zip(direction(moving, pc.moving))
+                    .map(|(n, d)| {
+                        vec![Perpendicular {
+                            moving: d,
+                            fixed: self.to_frame * n,
+                        }]
+                    })
+                    .unwrap_or_default(),
+                ContactKind::FaceFace => normal(fixed, pc.fixed)
+                    .zip(normal(moving, pc.moving))
+                    .map(|(nf, ng)| across(nf, ng).to_vec())
+                    .unwrap_or_default(),
+                ContactKind::EdgeEdgeTouch => direction(fixed, pc.fixed)
+                    .zip(direction(moving, pc.moving))
+                    .map(|(df, dg)| across(df, dg).to_vec())
+                    .unwrap_or_default(),
+                _ => Vec::new(),
+            };
+            for p in found {
+                if !out.iter().any(|q| q.same_as(&p)) {
+                    out.push(p);
+                }
             }
         }
         out
@@ -702,6 +835,11 @@ struct Perpendicular {
 impl Perpendicular {
     fn residual(&self, r: &DMat3) -> f64 {
         (*r * self.moving).dot(self.fixed)
+    }
+
+    /// Whether both directions are the other's, up to sign: the same condition.
+    fn same_as(&self, other: &Perpendicular) -> bool {
+        self.moving.dot(other.moving).abs() > 1.0 - 1e-12 && self.fixed.dot(other.fixed).abs() > 1.0 - 1e-12
     }
 }
 
@@ -1043,17 +1181,29 @@ fn peel(
     rest
 }
 
+/// Which points near a stretch's ends [`meeting_points`] samples besides its middles.
+#[derive(Clone, Copy)]
+struct Ends {
+    /// Every end, also at an edge of either facet (else only where another
+    /// difference's boundary cuts the segment).
+    every: bool,
+    /// How far inside both ends of every stretch longer than four times this (zero:
+    /// not at all).
+    inset: f64,
+}
+
 /// The samples where facets `f1` and `f2` (of differences `own`) meet: the middle of
 /// every stretch of their common segment inside no other difference (of every part of
-/// it, where a difference with a facet in the plane of either covers some of it), and
-/// the ends of those stretches where another difference's boundary cuts the segment.
+/// it, where a difference with a facet in the plane of either covers some of it), the
+/// ends of those stretches where another difference's boundary cuts the segment, and
+/// points just inside both ends (`ends`).
 fn meeting_points(
     f1: &Facet,
     f2: &Facet,
     own: [usize; 2],
     differences: &[Difference],
     tol: f64,
-    every_end: bool,
+    ends: Ends,
     out: &mut Vec<DVec3>,
 ) {
     let d = f1.normal.cross(f2.normal);
@@ -1142,9 +1292,16 @@ fn meeting_points(
         // either facet (a contact at an element's end, or a third facet of the same
         // difference).
         for end in [s, e] {
-            if every_end || (end > lo + tol && end < hi - tol) {
+            if ends.every || (end > lo + tol && end < hi - tol) {
                 out.push(x0 + d * end);
             }
+        }
+        // Just inside both ends: where the two contacts hold robustly only on a sliver
+        // of the stretch (a face balanced on a rim edge, lifted off the rim's face by
+        // less than the separation but at one end), the middle shows no witness.
+        let inset = ends.inset;
+        if inset > 0.0 && e - s > 4.0 * inset {
+            out.extend([x0 + d * (s + inset), x0 + d * (e - inset)]);
         }
     }
 }
@@ -1267,6 +1424,74 @@ mod tests {
     /// The box `[lo, hi]` as a difference: its six faces as facets (corners
     /// counter-clockwise seen from outside), those normal to z first: a region cut
     /// by the other facets first would be split by them anyway.
+    /// The cube turned about x rests on its bottom edge along x, which lies on the slab
+    /// only where ry and rz are exactly zero. A box of poses just off that (ry from
+    /// 1e-3 to 2e-3 rad: the edge's ends stand 0.01 to 0.02 apart in height, far
+    /// beyond the contact tolerance and the separation) shows the edge's lower corner
+    /// on the slab at its own rotations; carried onto the edge's alignment with the
+    /// slab, the edge itself.
+    #[test]
+    fn an_open_box_next_to_an_alignment_shows_the_state_that_needs_it() {
+        let (slab, cube) = cube_and_slab();
+        let bounds = Bounds::try_new([-1.0, -1.0, -1.0, 0.2, -0.01, 0.0], [1.0, 1.0, 1.0, 0.4, 0.01, 0.0]).unwrap();
+        let problem = Problem::new(&slab, &cube, bounds, DAffine3::IDENTITY);
+        let open = Bounds::try_new([0.0, 0.0, -0.05, 0.3, 1e-3, 0.0], [1.0, 1.0, 0.05, 0.31, 2e-3, 0.0]).unwrap();
+        let top = ElementId::Face(FaceId(
+            slab.faces()
+                .iter()
+                .position(|f| f.normal.z > 0.5)
+                .expect("the slab's top") as u32,
+        ));
+        let edge = crate::testing::edge_between(&cube, DVec3::ZERO, DVec3::new(10.0, 0.0, 0.0));
+        let on_the_slab = vec![PrincipalContact {
+            fixed: top,
+            moving: edge,
+            kind: ContactKind::FaceEdge,
+        }];
+        let own = problem.states_in_slices(&open, Density::LOCAL, false);
+        assert!(!own.states.is_empty(), "the corner on the slab shows in the box");
+        assert!(own.states.iter().all(|(s, _)| *s != on_the_slab), "{:?}", own.states);
+        let carried = problem.states_in_open_box(&open, &on_the_slab, false);
+        let (_, pose) = carried
+            .states
+            .iter()
+            .find(|(s, _)| *s == on_the_slab)
+            .expect("the edge on the slab at the aligned rotations");
+        assert!(pose.ry.abs() < 1e-12 && pose.rz == 0.0, "{pose:?}");
+        assert_eq!(problem.clean_state(pose), Some(on_the_slab));
+    }
+
+    /// The hexagonal peg tilted 0.0111 rad about x over its hole: its bottom face rests
+    /// on the hole's front rim edge (e15) and its corner v0 on the wall f5. At this
+    /// turn the face stands off the top face beside the rim by more than the
+    /// separation only where the bounds' y = −1 ends the stretch where the two
+    /// contacts' facets meet; its middle is too close to read as a witness. The sample
+    /// just inside the stretch's end shows the state.
+    #[test]
+    fn a_state_robust_only_at_one_end_of_its_stretch_shows_next_to_that_end() {
+        let (block, peg) = (
+            crate::testing::fixture("block_with_hex_hole.off"),
+            crate::testing::fixture("hex_peg.off"),
+        );
+        let (rx, tilt) = (-0.0111, 1f64.to_radians());
+        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -tilt, -tilt, 0.0], [1.0, 1.0, 45.0, tilt, tilt, 0.0]).unwrap();
+        let problem = Problem::new(&block, &peg, bounds, DAffine3::IDENTITY);
+        let slice = Bounds::try_new([-1.0, -1.0, 0.0, rx, 0.0, 0.0], [1.0, 1.0, 45.0, rx, 0.0, 0.0]).unwrap();
+        let mut balanced = vec![
+            crate::testing::contact("f5", "v0", ContactKind::FaceVertex),
+            crate::testing::contact("e15", "f2", ContactKind::EdgeFace),
+        ];
+        balanced.sort();
+        let finds = problem.states_in_slices(&slice, Density::LOCAL, false);
+        let (_, pose) = finds
+            .states
+            .iter()
+            .find(|(s, _)| *s == balanced)
+            .expect("the face balanced on the rim");
+        assert!(pose.y < -0.98, "next to the bound y = -1: {pose:?}");
+        assert_eq!(problem.clean_state(pose), Some(balanced));
+    }
+
     fn box_difference(lo: DVec3, hi: DVec3) -> Difference {
         let corner = |bits: [bool; 3]| {
             DVec3::new(
@@ -1337,15 +1562,25 @@ mod tests {
         let third = box_difference(DVec3::new(1.5, -1.0, -5.0), DVec3::new(4.0, 4.0, 5.0));
         let wall = third.facets.iter().find(|f| f.normal == -DVec3::X).unwrap().clone();
         let differences = [first(), second(), third];
-        let mut out = Vec::new();
-        meeting_points(&top(&differences[0]), &wall, [0, 2], &differences, tol, false, &mut out);
-        let on_segment: Vec<f64> = out
-            .iter()
-            .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)
-            .map(|p| p.y)
-            .collect();
-        assert!(on_segment.iter().any(|&y| y > 0.0 && y < 1.0), "{out:?}");
-        assert!(on_segment.iter().any(|&y| y > 1.0 && y < 2.0), "{out:?}");
+        let on_segment = |inset: f64| {
+            let mut out = Vec::new();
+            let ends = Ends { every: false, inset };
+            meeting_points(&top(&differences[0]), &wall, [0, 2], &differences, tol, ends, &mut out);
+            let mut ys: Vec<f64> = out
+                .iter()
+                .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)
+                .map(|p| p.y)
+                .collect();
+            ys.sort_by(f64::total_cmp);
+            ys
+        };
+        let ys = on_segment(0.0);
+        assert!(ys.iter().any(|&y| y > 0.0 && y < 1.0), "{ys:?}");
+        assert!(ys.iter().any(|&y| y > 1.0 && y < 2.0), "{ys:?}");
+        // The stretch y in [0, 2] is also read a quarter inside each end.
+        let inset = on_segment(0.25);
+        assert_eq!(inset.len(), ys.len() + 2, "{inset:?}");
+        assert!(inset.contains(&0.25) && inset.contains(&1.75), "{inset:?}");
     }
 
     /// The region and the stretch of the test above, where the second top names the
@@ -1383,7 +1618,11 @@ mod tests {
             let top = first.facets.iter().find(|f| f.normal == DVec3::Z).unwrap().clone();
             let wall = third.facets.iter().find(|f| f.normal == -DVec3::X).unwrap().clone();
             let mut out = Vec::new();
-            meeting_points(&top, &wall, [0, 2], &[first, second, third], tol, false, &mut out);
+            let ends = Ends {
+                every: false,
+                inset: 0.0,
+            };
+            meeting_points(&top, &wall, [0, 2], &[first, second, third], tol, ends, &mut out);
             let mut ys: Vec<f64> = out
                 .iter()
                 .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)

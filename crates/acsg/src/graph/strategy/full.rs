@@ -17,8 +17,9 @@
 //! witness (descents); what they find grows again. When that settles too, the slice
 //! sweep reads the states at several hundred fixed rotations off the Minkowski
 //! differences of the convex pieces ([`Problem::states_in_slices`]), and then at a few
-//! rotations inside each box the undecided candidates' decisions left open; what it
-//! finds grows and descends again. A search that lands on a pose
+//! rotations inside each box the undecided candidates' decisions left open, carried
+//! onto the alignments their contacts need and turned along them
+//! ([`Problem::states_in_open_box`]); what it finds grows and descends again. A search that lands on a pose
 //! showing another state records that state (if new). Candidates of one round are
 //! decided in parallel and merged in a fixed order, so the output does not depend on
 //! the number of threads.
@@ -190,19 +191,20 @@ fn add_sliced(store: &mut Store<'_>, problem: &Problem<'_>, finds: SliceFinds) -
 }
 
 /// Slices through the boxes of poses that the decisions of the candidates still
-/// undecided left open, each candidate once (`swept`): where a state holds only on a
-/// sliver, the box the prover could not close holds its poses. The new states.
+/// undecided left open, each candidate once (`swept`), and along the alignments the
+/// candidate's contacts need from there ([`Problem::states_in_open_box`]): where a
+/// state holds only on a sliver, the box the prover could not close holds its poses or
+/// lies next to them. The new states.
 fn sweep_undecided(store: &mut Store<'_>, problem: &Problem<'_>, swept: &mut BTreeSet<Vec<PrincipalContact>>) -> usize {
-    let boxes: Vec<Bounds> = store
+    let boxes: Vec<(Vec<PrincipalContact>, Bounds)> = store
         .undecided_open()
         .into_iter()
         .filter(|(contacts, _)| swept.insert(contacts.clone()))
-        .map(|(_, open)| open)
         .collect();
     let degenerate = store.options().degenerate;
     let finds: Vec<SliceFinds> = boxes
         .par_iter()
-        .map(|open| problem.states_in_slices(open, Density::LOCAL, degenerate))
+        .map(|(target, open)| problem.states_in_open_box(open, target, degenerate))
         .collect();
     finds.into_iter().map(|found| add_sliced(store, problem, found)).sum()
 }
