@@ -127,6 +127,22 @@ impl Problem<'_> {
     /// rim edge, at the largest offset the bounds allow) holds the state there.
     #[must_use]
     pub fn states_in_open_box(&self, open: &Bounds, target: &[PrincipalContact], degenerate: bool) -> SliceFinds {
+        self.open_box_finds(&self.sweep(self.bounds()), open, target, degenerate)
+    }
+
+    /// [`Problem::states_in_open_box`] of each (target, open box), in parallel, the
+    /// convex pieces prepared once for the turns that read the whole bounds.
+    #[must_use]
+    pub fn states_in_open_boxes(&self, boxes: &[(Vec<PrincipalContact>, Bounds)], degenerate: bool) -> Vec<SliceFinds> {
+        let wide = self.sweep(self.bounds());
+        boxes
+            .par_iter()
+            .map(|(target, open)| self.open_box_finds(&wide, open, target, degenerate))
+            .collect()
+    }
+
+    /// [`Problem::states_in_open_box`], with `wide` the sweep over the whole bounds.
+    fn open_box_finds(&self, wide: &Sweep, open: &Bounds, target: &[PrincipalContact], degenerate: bool) -> SliceFinds {
         let sweep = self.sweep(open);
         let mut slices = sweep.rotations(self.fixed, self.moving, Density::LOCAL);
         let alignments = sweep.alignments_of(self.fixed, self.moving, target);
@@ -173,10 +189,10 @@ impl Problem<'_> {
         }
         let mut turned = Vec::new();
         carry(&stepped, &mut turned);
-        let wide = self.states_at(&self.sweep(self.bounds()), &turned, degenerate);
-        finds.slices += wide.slices;
-        finds.samples += wide.samples;
-        for (state, pose) in wide.states {
+        let along = self.states_at(wide, &turned, degenerate);
+        finds.slices += along.slices;
+        finds.samples += along.samples;
+        for (state, pose) in along.states {
             if !finds.states.iter().any(|(s, _)| *s == state) {
                 finds.states.push((state, pose));
             }

@@ -202,10 +202,7 @@ fn sweep_undecided(store: &mut Store<'_>, problem: &Problem<'_>, swept: &mut BTr
         .filter(|(contacts, _)| swept.insert(contacts.clone()))
         .collect();
     let degenerate = store.options().degenerate;
-    let finds: Vec<SliceFinds> = boxes
-        .par_iter()
-        .map(|(target, open)| problem.states_in_open_box(open, target, degenerate))
-        .collect();
+    let finds = problem.states_in_open_boxes(&boxes, degenerate);
     finds.into_iter().map(|found| add_sliced(store, problem, found)).sum()
 }
 
