@@ -673,47 +673,30 @@ impl Sweep {
     /// The alignments `target`'s contacts need, each once: an edge lying in a face
     /// (one), a face on a face and collinear edges (two each).
     fn alignments_of(&self, fixed: &Part, moving: &Part, target: &[PrincipalContact]) -> Vec<Perpendicular> {
-        let normal = |part: &Part, e: ElementId| match e {
+        // A face's normal, an edge's direction.
+        let axis = |part: &Part, e: ElementId| match e {
             ElementId::Face(f) => Some(part.face(f).normal),
-            _ => None,
-        };
-        let direction = |part: &Part, e: ElementId| match e {
             ElementId::Edge(id) => Some(part.edge_direction(id)),
-            _ => None,
+            ElementId::Vertex(_) => None,
         };
         let mut out: Vec<Perpendicular> = Vec::new();
         for pc in target {
-            let across = |fixed_axis: DVec3, moving: DVec3| {
-                let (u, v) = plane_basis(self.to_frame * fixed_axis);
-                [Perpendicular { moving, fixed: u }, Perpendicular { moving, fixed: v }]
+            let (Some(f), Some(m)) = (axis(fixed, pc.fixed), axis(moving, pc.moving)) else {
+                continue;
             };
-            let found: Vec<Perpendicular> = match pc.kind {
-                ContactKind::EdgeFace => direction(fixed, pc.fixed)
-                    .zip(normal(moving, pc.moving))
-                    .map(|(d, n)| {
-                        vec![Perpendicular {
-                            moving: n,
-                            fixed: self.to_frame * d,
-                        }]
-                    })
-                    .unwrap_or_default(),
-                ContactKind::FaceEdge => normal(fixed, pc.fixed)
-                    .zip(direction(moving, pc.moving))
-                    .map(|(n, d)| {
-                        vec![Perpendicular {
-                            moving: d,
-                            fixed: self.to_frame * n,
-                        }]
-                    })
-                    .unwrap_or_default(),
-                ContactKind::FaceFace => normal(fixed, pc.fixed)
-                    .zip(normal(moving, pc.moving))
-                    .map(|(nf, ng)| across(nf, ng).to_vec())
-                    .unwrap_or_default(),
-                ContactKind::EdgeEdgeTouch => direction(fixed, pc.fixed)
-                    .zip(direction(moving, pc.moving))
-                    .map(|(df, dg)| across(df, dg).to_vec())
-                    .unwrap_or_default(),
+            let f = self.to_frame * f;
+            let found = match pc.kind {
+                // An edge in a face: the edge across the face's normal.
+                ContactKind::EdgeFace | ContactKind::FaceEdge => vec![Perpendicular { moving: m, fixed: f }],
+                // A face on a face, collinear edges: the moving part's axis across two
+                // directions perpendicular to the fixed part's.
+                ContactKind::FaceFace | ContactKind::EdgeEdgeTouch => {
+                    let (u, v) = plane_basis(f);
+                    vec![
+                        Perpendicular { moving: m, fixed: u },
+                        Perpendicular { moving: m, fixed: v },
+                    ]
+                }
                 _ => Vec::new(),
             };
             for p in found {
