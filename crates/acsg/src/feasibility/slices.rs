@@ -1491,6 +1491,18 @@ mod tests {
         assert_eq!(problem.clean_state(pose), Some(balanced));
     }
 
+    /// The y of the samples on the line x = 1.5, z = 0 (where the wall of the tests'
+    /// third box meets the top of their first), in order.
+    fn ys_on_the_wall(samples: &[DVec3]) -> Vec<f64> {
+        let mut ys: Vec<f64> = samples
+            .iter()
+            .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)
+            .map(|p| p.y)
+            .collect();
+        ys.sort_by(f64::total_cmp);
+        ys
+    }
+
     fn box_difference(lo: DVec3, hi: DVec3) -> Difference {
         let corner = |bits: [bool; 3]| {
             DVec3::new(
@@ -1565,13 +1577,7 @@ mod tests {
             let mut out = Vec::new();
             let ends = Ends { every: false, inset };
             meeting_points(&top(&differences[0]), &wall, [0, 2], &differences, tol, ends, &mut out);
-            let mut ys: Vec<f64> = out
-                .iter()
-                .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)
-                .map(|p| p.y)
-                .collect();
-            ys.sort_by(f64::total_cmp);
-            ys
+            ys_on_the_wall(&out)
         };
         let ys = on_segment(0.0);
         assert!(ys.iter().any(|&y| y > 0.0 && y < 1.0), "{ys:?}");
@@ -1622,13 +1628,7 @@ mod tests {
                 inset: 0.0,
             };
             meeting_points(&top, &wall, [0, 2], &[first, second, third], tol, ends, &mut out);
-            let mut ys: Vec<f64> = out
-                .iter()
-                .filter(|p| (p.x - 1.5).abs() < 1e-12 && p.z.abs() < 1e-12)
-                .map(|p| p.y)
-                .collect();
-            ys.sort_by(f64::total_cmp);
-            ys
+            ys_on_the_wall(&out)
         };
         let near = |ys: Vec<f64>, expected: &[f64]| {
             ys.len() == expected.len() && ys.iter().zip(expected).all(|(y, e)| (y - e).abs() < 1e-6)
