@@ -124,7 +124,11 @@ impl Problem<'_> {
     /// translations within the box. Those contacts hold only where the rotation keeps
     /// their alignments exactly, a set of measure zero that the box's own rotations
     /// miss; a box the prover cannot close around such a state (a face balanced on a
-    /// rim edge, at the largest offset the bounds allow) holds the state there.
+    /// rim edge, at the largest offset the bounds allow) holds the state there. When
+    /// the target needs an alignment, also at the box's centre turned along each free
+    /// angle (by [`OPEN_BOX_STEPS`] of its width) and carried so, at translations
+    /// anywhere in the bounds: the box may lie next to the part of the region wide
+    /// enough for a witness.
     #[must_use]
     pub fn states_in_open_box(&self, open: &Bounds, target: &[PrincipalContact], degenerate: bool) -> SliceFinds {
         self.open_box_finds(&self.sweep(self.bounds()), open, target, degenerate)
