@@ -128,6 +128,12 @@ fn write_stages(out: &mut String, s: &Stats) {
          search had found",
         s.slices, s.slice_samples, s.found_by_slices
     );
+    let _ = writeln!(
+        out,
+        "proofs   {} candidates still undecided after the searches and sweeps proved infeasible by the last, \
+         strongest proofs",
+        s.proved_last
+    );
 }
 
 /// The summary's last lines: the graph's size, whether it is complete, and its states

@@ -124,6 +124,13 @@ const PRUNE_BUDGET: usize = 256;
 const SEARCH_BUDGET: usize = 256;
 /// Boxes examined by the last proofs, split in every component, per unit of effort.
 const PROOF_BUDGET: usize = 256;
+/// Boxes the last proofs ([`Problem::prove_last`]) examine, split in every component,
+/// per unit of effort, beyond the decision's own budget: few candidates are left then,
+/// and the screen has passed them.
+const LAST_PROOF_BUDGET: usize = 1024;
+/// Boxes the last proofs' screen examines in the box a decision left open, per unit of
+/// effort.
+const SCREEN_BUDGET: usize = 64;
 /// A box of rotations that survives is searched by optimisation every this many
 /// levels of depth (three: each angle halved once).
 const SEARCH_EVERY: u32 = 3;
@@ -193,13 +200,39 @@ impl Problem<'_> {
         }
     }
 
+    /// [`Problem::exclusion`] with the last proofs' conditions ([`Problem::prove_last`]):
+    /// a face and a corner of the other part kept apart unless a contact holds both,
+    /// and the contacts along a segment or over an area asked to meet together with
+    /// the other linearised conditions. As sound: a box around a verified witness is
+    /// never excluded.
+    #[must_use]
+    pub fn last_exclusion(&self, target: &[PrincipalContact], bounds: &Bounds) -> Option<Rule> {
+        match self.last_conditions(target) {
+            Ok(conditions) => self.exclude(target, &conditions, Mode::All, bounds, true).err(),
+            Err(rule) => Some(rule),
+        }
+    }
+
     /// What a target's boxes are tested against; the rule that already rules the
     /// target out whatever the pose, if one does.
     fn conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
+        self.conditions_from(target, |target| self.prover.links(target))
+    }
+
+    /// [`Problem::conditions`] for the last proofs ([`super::prover::Prover::last_links`]).
+    fn last_conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
+        self.conditions_from(target, |target| self.prover.last_links(target))
+    }
+
+    fn conditions_from(
+        &self,
+        target: &[PrincipalContact],
+        links: impl FnOnce(&[PrincipalContact]) -> Option<super::prover::Links>,
+    ) -> Result<Conditions, Rule> {
         if !self.rigidly_compatible(target) {
             return Err(Rule::RigidDistance);
         }
-        let links = self.prover.links(target).ok_or(Rule::Propagation)?;
+        let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {
             links,
             turns: self.turns(target),
@@ -370,6 +403,62 @@ impl Problem<'_> {
             ),
             Some(Decision::Infeasible(_))
         )
+    }
+
+    /// The last proof of a candidate left undecided once every search and sweep is
+    /// done, with the strongest conditions ([`super::prover::Prover::last_links`]) and
+    /// no search in between. First a screen: the box its decision left open (`open`),
+    /// split in every component within [`SCREEN_BUDGET`] boxes; a candidate whose open
+    /// box stays open there is left undecided at that cost. Then the branch and prune
+    /// over the whole bounds, rotations first, then every component. The proof, or
+    /// `None`.
+    pub(crate) fn prove_last(
+        &self,
+        target: &[PrincipalContact],
+        open: &Bounds,
+        stats: &mut SearchStats,
+    ) -> Option<Proof> {
+        let conditions = match self.last_conditions(target) {
+            Ok(conditions) => conditions,
+            Err(rule) => {
+                return Some(Proof {
+                    rules: BTreeSet::from([rule]),
+                    boxes: 1,
+                });
+            }
+        };
+        let proved = |from: &Bounds, phases: &[(Mode, usize)], stats: &mut SearchStats| {
+            let mut branching = Branching {
+                open: std::collections::VecDeque::from([(*from, 0)]),
+                examined: 0,
+                rules: BTreeSet::new(),
+                leaves: Vec::new(),
+            };
+            let mut others = Vec::new();
+            for &(mode, budget) in phases {
+                branching.open.extend(branching.leaves.drain(..).map(|b| (b, 0)));
+                match self.branch(
+                    target,
+                    &conditions,
+                    mode,
+                    &mut branching,
+                    budget,
+                    None,
+                    &mut others,
+                    stats,
+                ) {
+                    Some(Decision::Infeasible(proof)) => return Some(proof),
+                    Some(_) => return None,
+                    None => {}
+                }
+            }
+            None
+        };
+        let effort = self.effort as usize;
+        proved(open, &[(Mode::All, SCREEN_BUDGET * effort)], stats)?;
+        let rotations = PRUNE_BUDGET + SEARCH_BUDGET * effort;
+        let all = rotations + (PROOF_BUDGET + LAST_PROOF_BUDGET) * effort;
+        proved(&self.bounds, &[(Mode::Rotations, rotations), (Mode::All, all)], stats)
     }
 
     /// The states met where `target`'s contacts hold with others touching too: local
@@ -987,5 +1076,46 @@ impl Branching {
             .first()
             .copied()
             .or_else(|| self.open.back().map(|(b, _)| *b))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::ContactKind as K;
+    use crate::testing::{contact, fixture};
+
+    #[test]
+    fn the_last_proofs_close_what_the_decision_leaves_open() {
+        // The hole's rim edge e11 on the peg's bottom face f2, the peg tilted about y
+        // by −0.002 to −0.004 rad, x near −1 (where the bottom may reach past the rim):
+        // past the rim the bottom dips into the top face, so no pose here shows the
+        // contact alone (see the prover's test of the same box). The decision, whose
+        // searches come first, leaves it open; the last proofs close it.
+        let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let bounds = Bounds::try_new(
+            [-1.0, 0.0, 39.8, 0.0, -0.004, 0.0],
+            [-0.95, 1.0, 40.0, 0.0, -0.002, 0.0],
+        )
+        .unwrap();
+        let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
+        let target = [contact("e11", "f2", K::EdgeFace)];
+        let starts = Starts {
+            warm: &[],
+            anchor: &target[0],
+            constructive: 2,
+            boost: 1,
+        };
+        let mut stats = SearchStats::default();
+        let decided = problem.decide(&target, &starts, &mut stats);
+        assert!(
+            matches!(decided.decision, Decision::Undecided(_)),
+            "{:?}",
+            decided.decision
+        );
+        let Decision::Undecided(open) = decided.decision else {
+            unreachable!()
+        };
+        assert!(problem.prove_last(&target, &open, &mut stats).is_some());
     }
 }

@@ -64,6 +64,9 @@ pub(crate) struct Links {
     /// Crossings whose edge may lie along a face at the other edge: a checker then
     /// reads that edge on the face (a pair a witness keeps apart).
     along: Vec<along::AlongFace>,
+    /// Whether the second-order test also asks the elements' boxes of the contacts
+    /// along a segment or over an area to meet ([`Prover::last_links`]).
+    meet_regions: bool,
 }
 
 /// A contact of a vertex on a face, along a segment or over an area: some point lies
@@ -413,8 +416,28 @@ impl<'a> Prover<'a> {
     /// The constraints of a state's contacts; `None` when they are already
     /// contradictory without looking at poses.
     pub fn links(&self, target: &[PrincipalContact]) -> Option<Links> {
+        self.links_with(target, false)
+    }
+
+    /// [`Prover::links`] for the last proofs, once the searches and sweeps are done:
+    /// a face and a corner of the other part are kept apart unless a contact holds
+    /// both ([`held_together`], not [`implied`]), and the second-order test also asks
+    /// the boxes of the contacts along a segment or over an area to meet. Proofs this
+    /// strong, made earlier, would leave the sweeps no box to read: the sweeps of the
+    /// boxes the weaker proofs leave open find states no search reaches.
+    pub fn last_links(&self, target: &[PrincipalContact]) -> Option<Links> {
+        self.links_with(target, true)
+    }
+
+    fn links_with(&self, target: &[PrincipalContact], last: bool) -> Option<Links> {
         let links = self.link_list(target)?;
-        let implied = |a: ElementId, b: ElementId| implied(self.fixed, self.moving, target, a, b);
+        let implied = |a: ElementId, b: ElementId| {
+            if last {
+                held_together(self.fixed, self.moving, target, a, b)
+            } else {
+                implied(self.fixed, self.moving, target, a, b)
+            }
+        };
         let mut held_rims = Vec::new();
         let mut apart = Vec::new();
         for vertex in 0..self.moving.vertices().len() {
@@ -463,6 +486,7 @@ impl<'a> Prover<'a> {
             overlaps,
             straddles: self.straddles(target),
             along: self.along_faces(target),
+            meet_regions: last,
         })
     }
 
@@ -1023,6 +1047,27 @@ pub(crate) fn implied(fixed: &Part, moving: &Part, target: &[PrincipalContact], 
     })
 }
 
+/// Whether a face and a vertex of the other part (`a` of the fixed part, `b` of the
+/// moving part) touch wherever the target's contacts hold, or lie in the closure of
+/// one that does: both hold a contact's elements (a face around a touching vertex), or
+/// both lie in the closures of a contact's elements along a segment or over an area
+/// (an edge's end on the face it lies in). Stricter than [`implied`]: a face around an
+/// edge that lies on a face and a corner of that face touch only where the corner is
+/// on the edge, which the held rim ([`Apart`]'s `held_rim`) allows for; anywhere
+/// else a checker reads the corner on the face, a contact no contact of the target
+/// holds.
+fn held_together(fixed: &Part, moving: &Part, target: &[PrincipalContact], a: ElementId, b: ElementId) -> bool {
+    target.iter().any(|pc| {
+        let region = matches!(
+            pc.kind,
+            ContactKind::FaceFace | ContactKind::FaceEdge | ContactKind::EdgeFace | ContactKind::EdgeEdgeTouch
+        );
+        let around = fixed.in_closure(a, pc.fixed) && moving.in_closure(b, pc.moving);
+        let within = region && fixed.in_closure(pc.fixed, a) && moving.in_closure(pc.moving, b);
+        around || within
+    })
+}
+
 /// Whether no contact of `target` other than `pc` touches the closure of `face` (of
 /// the fixed part when `fixed_side`, else of the moving part): then a checker reading
 /// an edge on that face reads a contact the target does not hold.
@@ -1199,6 +1244,82 @@ mod tests {
     use super::*;
     use crate::pose::Pose;
     use crate::testing::{edge_between, fixture};
+
+    #[test]
+    fn a_face_and_a_corner_are_held_together_only_where_a_contact_puts_them() {
+        // The plain hole's top face (f3, z = 50) around its rim edge (e11, x = 35) and
+        // the peg's bottom face (f2) with its corner v0.
+        use crate::contact::ContactKind as K;
+        use crate::testing::contact;
+        let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let (top, corner) = ("f3".parse().unwrap(), "v0".parse().unwrap());
+        let together = |target: &[PrincipalContact]| held_together(&hole, &peg, target, top, corner);
+        // The rim edge lying on the bottom face holds neither the top face nor the
+        // corner: they touch only where the corner is on the rim edge (the held rim).
+        let rim_on_bottom = [contact("e11", "f2", K::EdgeFace)];
+        assert!(!together(&rim_on_bottom));
+        // The looser rule, for the ends of crossing edges, takes them as touching.
+        assert!(implied(&hole, &peg, &rim_on_bottom, top, corner));
+        // The bottom face on the top face: its corners lie in the top face's plane.
+        assert!(together(&[contact("f3", "f2", K::FaceFace)]));
+        // The corner on the top face, and an edge ending at it lying on it (e0, e1);
+        // an edge away from it (e5) does not hold it.
+        assert!(together(&[contact("f3", "v0", K::FaceVertex)]));
+        assert!(together(&[contact("f3", "e0", K::FaceEdge)]));
+        assert!(together(&[contact("f3", "e1", K::FaceEdge)]));
+        assert!(!together(&[contact("f3", "e5", K::FaceEdge)]));
+        // Another face, or another corner, is not.
+        assert!(!together(&[contact("f5", "v0", K::FaceVertex)]));
+        assert!(!together(&[contact("f3", "v7", K::FaceVertex)]));
+    }
+
+    #[test]
+    fn the_last_proofs_see_a_rim_edge_on_a_tilted_bottom_needs_the_bottom_over_the_rim() {
+        // The hole's rim edge e11 (x = 35, z = 50, along y) lying on the peg's bottom
+        // face f2 (a square, x from 36 to 64 in its frame) needs the bottom to reach
+        // past the rim by the margin: x + 36 cos ry + 10 sin ry ≤ 35 − m. With x ≥ −1
+        // and the peg tilted by ry < 0, the part of the bottom past the rim dips below
+        // the top face (it descends towards −x): the overhang w penetrates by w |ry|.
+        // Propagation, axis by axis, leaves boxes a few µm wide open; the linearised
+        // conditions of the last proofs, with the regions' boxes meeting as rows, close
+        // them.
+        use crate::contact::ContactKind as K;
+        use crate::testing::contact;
+        let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let two = 2f64.to_radians();
+        let bounds = Bounds::try_new([-2.0, -2.0, 0.0, -two, -two, 0.0], [2.0, 2.0, 45.0, two, two, 0.0]).unwrap();
+        let problem = super::super::Problem::new(&hole, &peg, bounds, DAffine3::IDENTITY);
+        let target = [contact("e11", "f2", K::EdgeFace)];
+        // ry = −0.00304, the overhang up to about 0.03 mm, all along the rim.
+        let (x, z, ry) = (-0.96954, 39.89052, -0.0030388);
+        let tilted_in = Bounds::try_new(
+            [x - 1e-3, 0.0, z - 1e-3, -5e-8, ry - 1.2e-5, 0.0],
+            [x + 1e-3, 1.0, z + 1e-3, 5e-8, ry + 1.2e-5, 0.0],
+        )
+        .unwrap();
+        assert_eq!(problem.exclusion(&target, &tilted_in), None);
+        assert!(problem.last_exclusion(&target, &tilted_in).is_some());
+        // Tilted the other way (ry > 0) the bottom rises past the rim; with the peg
+        // moved to x = −1.1 it overhangs it by about 0.065 mm: a witness of the rim on
+        // the bottom, alone.
+        let ry: f64 = 0.0035;
+        let (c, s) = (ry.cos(), ry.sin());
+        let x = -1.1;
+        // The rim meets the bottom at 36 + u along its x (the part before it is past
+        // the rim): (36 + u) c + 10 s + x = 35; the rim's height there is 50.
+        let overhang = (35.0 - 10.0 * s - x) / c - 36.0;
+        let z = 50.0 + (36.0 + overhang) * s - 10.0 * c;
+        let pose = Pose::from_array([x, 0.0, z, 0.0, ry, 0.0]);
+        assert!(overhang > 0.06, "{overhang}");
+        assert_eq!(problem.verify(&pose), Some(target.to_vec()));
+        let around = Bounds::try_new(
+            [x - 1e-3, -0.1, z - 1e-3, -1e-6, ry - 1e-5, 0.0],
+            [x + 1e-3, 0.1, z + 1e-3, 1e-6, ry + 1e-5, 0.0],
+        )
+        .unwrap();
+        assert_eq!(problem.exclusion(&target, &around), None);
+        assert_eq!(problem.last_exclusion(&target, &around), None);
+    }
 
     #[test]
     fn a_convex_part_knows_its_sharpest_corner_and_a_box_its_distance_from_a_rim() {

@@ -138,6 +138,9 @@ pub struct Stats {
     pub infeasible: usize,
     /// Candidates neither witnessed nor proved infeasible: the graph may lack them.
     pub undecided: usize,
+    /// Candidates still undecided once the searches and sweeps were done that the last,
+    /// strongest proofs proved infeasible (counted in `infeasible` too).
+    pub proved_last: usize,
     /// Boxes of poses examined by the branch and prune of the decisions.
     pub boxes: usize,
     /// States, free space included.

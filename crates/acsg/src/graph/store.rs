@@ -261,6 +261,16 @@ impl<'a> Store<'a> {
         self.record_others(recorded, decided.others, problem)
     }
 
+    /// Takes candidates left undecided off the list: the last proofs proved them
+    /// infeasible.
+    pub fn proved_last(&mut self, proved: &BTreeSet<Vec<PrincipalContact>>) {
+        let before = self.undecided.len();
+        self.undecided.retain(|u| !proved.contains(&u.contacts));
+        let taken = before - self.undecided.len();
+        self.stats.infeasible += taken;
+        self.stats.proved_last += taken;
+    }
+
     /// Ends stage 1: its time is taken, and stage 2's begins.
     pub fn end_stage1(&mut self) {
         self.stats.stage1_seconds = self.clock.elapsed().as_secs_f64();

@@ -964,8 +964,8 @@ impl PairRun {
         );
     }
 
-    /// No exclusion rule of the decisions rules out a small box around an oracle
-    /// witness (the rules are sound), nor the witness itself.
+    /// No exclusion rule of the decisions, nor of the last proofs, rules out a small
+    /// box around an oracle witness (the rules are sound), nor the witness itself.
     fn exclusions_are_sound(&self) {
         let problem = acsg::feasibility::Problem::new(&self.fixed, &self.moving, self.bounds, DAffine3::IDENTITY);
         let mut wrong = String::new();
@@ -979,7 +979,8 @@ impl PairRun {
                 let Ok(b) = Bounds::try_new(around(-1.0), around(1.0)) else {
                     continue;
                 };
-                if let Some(rule) = problem.exclusion(&s.contacts, &b) {
+                let excluded = problem.exclusion(&s.contacts, &b);
+                if let Some(rule) = excluded.or_else(|| problem.last_exclusion(&s.contacts, &b)) {
                     count += 1;
                     let _ = writeln!(
                         wrong,

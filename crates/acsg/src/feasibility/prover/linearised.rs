@@ -407,6 +407,7 @@ impl Linearised<'_, '_> {
     /// The rows of the contacts.
     fn contacts(&mut self, links: &super::Links) {
         let (turn, s) = (&self.turn, self.prover.slack);
+        let mut regions = Vec::new();
         for link in &links.links {
             let row = match *link {
                 Link::MovingPointOnFixedPlane { w, n, d } => {
@@ -430,9 +431,69 @@ impl Linearised<'_, '_> {
                     }
                     continue;
                 }
-                Link::Region { .. } => continue,
+                Link::Region { a, b } => {
+                    regions.push((a, b));
+                    continue;
+                }
             };
             self.rows.push(row);
+        }
+        if links.meet_regions {
+            for (a, b) in regions {
+                self.regions_meet(a, b);
+            }
+        }
+    }
+
+    /// A contact along a segment or over an area: the fixed element's box `a` (in G's
+    /// frame) meets the moving element's box `b` turned and moved, as propagation asks
+    /// ([`Link::Region`]), axis by axis: some corner of `b` reaches up to `a`'s lower
+    /// side and some down to its upper side.
+    fn regions_meet(&mut self, a: (DVec3, DVec3), b: (DVec3, DVec3)) {
+        let s = self.prover.slack;
+        let mut corners: Vec<DVec3> = (0..8)
+            .map(|c| {
+                DVec3::new(
+                    if c & 1 == 0 { b.0.x } else { b.1.x },
+                    if c & 2 == 0 { b.0.y } else { b.1.y },
+                    if c & 4 == 0 { b.0.z } else { b.1.z },
+                )
+            })
+            .collect();
+        corners.sort_by(|p, q| {
+            p.to_array()
+                .partial_cmp(&q.to_array())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        corners.dedup();
+        for (k, axis) in DVec3::AXES.into_iter().enumerate() {
+            let placed: Vec<Affine> = corners
+                .iter()
+                .map(|&q| self.with_spun(q, |w| self.turn.on_moving_point(axis, w)))
+                .collect();
+            let (mut reach_up, mut reach_down) = (Some(Vec::new()), Some(Vec::new()));
+            for form in &placed {
+                let range = form.range(&self.lo, &self.hi);
+                // A corner on the right side wherever the box puts it settles the side.
+                if range.lo >= a.0[k] {
+                    reach_up = None;
+                }
+                if range.hi <= a.1[k] {
+                    reach_down = None;
+                }
+                if let Some(cases) = reach_up.as_mut().filter(|_| range.hi >= a.0[k] - s) {
+                    cases.push(vec![form.row(a.0[k], f64::INFINITY, s)]);
+                }
+                if let Some(cases) = reach_down.as_mut().filter(|_| range.lo <= a.1[k] + s) {
+                    cases.push(vec![form.row(f64::NEG_INFINITY, a.1[k], s)]);
+                }
+            }
+            for mut cases in [reach_up, reach_down].into_iter().flatten() {
+                match cases.len() {
+                    1 => self.rows.extend(cases.pop().unwrap_or_default()),
+                    _ => self.either.push(cases),
+                }
+            }
         }
     }
 

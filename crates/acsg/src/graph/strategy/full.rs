@@ -19,7 +19,9 @@
 //! differences of the convex pieces ([`Problem::states_in_slices`]), and then at a few
 //! rotations inside each box the undecided candidates' decisions left open, carried
 //! onto the alignments their contacts need and turned along them
-//! ([`Problem::states_in_open_box`]); what it finds grows and descends again. A search that lands on a pose
+//! ([`Problem::states_in_open_box`]); what it finds grows and descends again. Last, the
+//! candidates still undecided are proved once more with stronger conditions
+//! ([`Problem::prove_last`]). A search that lands on a pose
 //! showing another state records that state (if new). Candidates of one round are
 //! decided in parallel and merged in a fixed order, so the output does not depend on
 //! the number of threads.
@@ -102,6 +104,29 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
             break;
         }
     }
+    prove_last(store, problem);
+}
+
+/// The candidates still undecided, proved with the strongest conditions
+/// ([`Problem::prove_last`]) once nothing more turns up: the sweeps have read the boxes
+/// their decisions left open by then. In parallel, recorded in a fixed order.
+fn prove_last(store: &mut Store<'_>, problem: &Problem<'_>) {
+    let left = store.undecided_open();
+    let mut results: Vec<(bool, SearchStats)> = Vec::with_capacity(left.len());
+    for chunk in left.chunks(BATCH) {
+        results.par_extend(chunk.par_iter().map(|(target, open)| {
+            let mut stats = SearchStats::default();
+            (problem.prove_last(target, open, &mut stats).is_some(), stats)
+        }));
+    }
+    let mut proved = BTreeSet::new();
+    for ((target, _), (infeasible, stats)) in left.into_iter().zip(results) {
+        store.stats.boxes += stats.boxes;
+        if infeasible {
+            proved.insert(target);
+        }
+    }
+    store.proved_last(&proved);
 }
 
 /// Stage 1: every single contact decided (the PPCs, and the contacts that need no PPC
