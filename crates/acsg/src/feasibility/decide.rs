@@ -127,7 +127,7 @@ const PROOF_BUDGET: usize = 256;
 /// Boxes the last proofs ([`Problem::prove_last`]) examine, split in every component,
 /// per unit of effort, beyond the decision's own budget: few candidates are left then,
 /// and the screen has passed them.
-const LAST_PROOF_BUDGET: usize = 1024;
+const LAST_PROOF_BUDGET: usize = 256;
 /// Boxes the last proofs' screen examines in the box a decision left open, per unit of
 /// effort.
 const SCREEN_BUDGET: usize = 64;
