@@ -118,7 +118,8 @@ impl Wedge {
     /// (the sine of the angle between the edges times the unit normal) the slack is
     /// that tolerance over the shortest distance an end may have from the crossing.
     /// When the ends of both edges must also stay the separation away from the other
-    /// edge (no contact of the target implies those pairs), the edges have drawn at
+    /// edge (no contact of the target implies those pairs, nor an end of one with an
+    /// end of the other), the edges have drawn at
     /// least the separation apart at that end, so a face may turn past the plane by at
     /// most the tolerance over the separation: the slack holds for the unit normal, and
     /// near-parallel edges no longer pass every test.
@@ -442,19 +443,15 @@ impl Problem<'_> {
                 // directions u satisfy s n·u ≤ 0 and B's v satisfy s n·(R v) ≥ 0. Both
                 // are linear in R: n·u = (u × e)·(R x), n·(R v) = e·R(x × v).
                 // Each end of either edge against the other edge: a pair kept apart
-                // unless a contact of the target implies it.
-                let ends_apart = self
-                    .fixed
-                    .edge(e)
-                    .vertices
-                    .iter()
-                    .all(|&v| !implied(self.fixed, self.moving, target, ElementId::Vertex(v), pc.moving))
-                    && self
-                        .moving
-                        .edge(x)
-                        .vertices
-                        .iter()
-                        .all(|&v| !implied(self.fixed, self.moving, target, pc.fixed, ElementId::Vertex(v)));
+                // unless a contact of the target implies it, or implies the end
+                // together with an end of the other edge (a corner on a corner, held
+                // by an edge lying in a face: the end is then at the other edge).
+                let held = |a: ElementId, b: ElementId| implied(self.fixed, self.moving, target, a, b);
+                let fixed_ends = self.fixed.edge(e).vertices.map(ElementId::Vertex);
+                let moving_ends = self.moving.edge(x).vertices.map(ElementId::Vertex);
+                let ends_apart = fixed_ends.iter().all(|&w| !held(w, pc.moving))
+                    && moving_ends.iter().all(|&v| !held(pc.fixed, v))
+                    && fixed_ends.iter().all(|&w| moving_ends.iter().all(|&v| !held(w, v)));
                 out.wedges.push(Wedge {
                     on_a: self
                         .fixed
@@ -647,6 +644,39 @@ mod tests {
             w.normal = None;
         }
         assert!(loose.may_hold(&near));
+    }
+
+    #[test]
+    fn a_crossing_whose_end_sits_on_the_other_edges_end_is_not_excluded_by_the_wedge() {
+        // The peg's corner v0 in the chamfered hole's corner v7, its bottom edge e2
+        // lying on the chamfer f6 (so the two corners are held together), and its
+        // other bottom edge e1, 1.7e-4 rad off the hole's edge e16, crossing it 6e-4 mm
+        // from v0. The end v0 is within 1.1e-7 mm of e16 (at e16's end v7), so the
+        // edges have not drawn the separation apart there: the contact module reads
+        // the state at this pose, and the wedge rule must leave it.
+        let (hole, peg) = (
+            crate::testing::fixture("block_with_chamfered_hole.off"),
+            crate::testing::fixture("peg.off"),
+        );
+        let (ry, rz) = (2f64.to_radians(), 1f64.to_radians());
+        let bounds = Bounds::try_new([-2.0, -2.0, 0.0, 0.0, -ry, -rz], [2.0, 2.0, 45.0, 0.0, ry, rz]).unwrap();
+        let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
+        let mut target = vec![
+            crate::testing::contact("f6", "e2", K::FaceEdge),
+            crate::testing::contact("e16", "e1", K::EdgeEdge),
+        ];
+        target.sort();
+        let x = [
+            -1.0045280370592065,
+            -0.99372880196899,
+            34.993729196431545,
+            0.0,
+            -0.00017419320272330494,
+            -0.00017419320536610087,
+        ];
+        assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(target.clone()));
+        let at = Bounds::try_new(x, x).unwrap();
+        assert!(problem.turns(&target).may_hold(&at));
     }
 
     #[test]

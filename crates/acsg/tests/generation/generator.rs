@@ -154,21 +154,6 @@ fn the_built_in_example_has_no_redundant_state_and_a_connected_graph_of_touching
         }
         assert!(large.dof <= small.dof, "edge {a}-{b} does not constrain more");
     }
-    // No exclusion rule of the decisions rules out a state's own witness (the rules
-    // are sound on the generator's verified witnesses too).
-    let problem = acsg::feasibility::Problem::new(&l_block, &box_part, bounds, DAffine3::IDENTITY);
-    for state in &graph.states[1..] {
-        let x = state.witness.unwrap().to_array();
-        let at = Bounds::try_new(x, x).unwrap();
-        assert_eq!(
-            problem.exclusion(&state.contacts, &at),
-            None,
-            "state {} {:?} at {:?}",
-            state.id,
-            state.contacts,
-            x
-        );
-    }
     // Connected: a search from free space reaches every state.
     let mut seen = vec![false; graph.states.len()];
     let mut stack = vec![0];

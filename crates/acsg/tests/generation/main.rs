@@ -40,9 +40,11 @@ fn built_in_example() -> &'static Graph {
 }
 
 /// Every state's witness shows exactly that state at the contact tolerance, inside the
-/// bounds, with no penetration and every other pair at least the separation apart.
+/// bounds, with no penetration and every other pair at least the separation apart, and
+/// no rule of the prover excludes it.
 fn verify_witnesses(fixed: &Part, moving: &Part, bounds: &Bounds, graph: &Graph) {
     let scene = ContactScene::new(fixed, moving);
+    let problem = acsg::feasibility::Problem::new(fixed, moving, *bounds, DAffine3::IDENTITY);
     for state in &graph.states[1..] {
         let pose = state.witness.expect("every contact state has a witness");
         assert!(bounds.contains(&pose, 1e-9, 1e-12), "{pose:?} outside the bounds");
@@ -52,5 +54,12 @@ fn verify_witnesses(fixed: &Part, moving: &Part, bounds: &Bounds, graph: &Graph)
         if let Some(gap) = report.min_gap {
             assert!(gap >= SEPARATION_REL * scene.scale(), "a pair only {gap} apart");
         }
+        // No rule of the prover excludes the pose that shows the state: the rules are
+        // sound on the generator's own witnesses too.
+        let at = Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
+        let rule = problem
+            .exclusion(&state.contacts, &at)
+            .or_else(|| problem.last_exclusion(&state.contacts, &at));
+        assert_eq!(rule, None, "state {} {:?} at {pose:?}", state.id, state.contacts);
     }
 }
