@@ -102,6 +102,10 @@ pub struct Decided {
     pub decision: Decision,
     /// Other states whose witnesses the search met.
     pub others: Vec<(Vec<PrincipalContact>, Pose)>,
+    /// When a branch and prune over the whole bounds left the candidate undecided with
+    /// few boxes open, every one of them (their union holds every pose it could not
+    /// exclude); empty otherwise. The last proofs go on from them.
+    pub rest: Vec<Bounds>,
 }
 
 impl Decided {
@@ -128,6 +132,10 @@ const PROOF_BUDGET: usize = 256;
 /// per unit of effort, beyond the decision's own budget: few candidates are left then,
 /// and the screen has passed them.
 const LAST_PROOF_BUDGET: usize = 256;
+/// Boxes the last proofs examine when they go on from the boxes a decision left open,
+/// split in every component, per unit of effort; they do so only when at most a
+/// quarter of it is open.
+const CONTINUED_PROOF_BUDGET: usize = 512;
 /// Boxes the last proofs' screen examines in the box a decision left open, per unit of
 /// effort.
 const SCREEN_BUDGET: usize = 64;
@@ -184,8 +192,9 @@ impl Problem<'_> {
     /// first, then a branch and prune that searches inside the boxes it cannot exclude.
     pub(crate) fn decide(&self, target: &[PrincipalContact], starts: &Starts, stats: &mut SearchStats) -> Decided {
         let mut others = Vec::new();
-        let decision = self.decide_within(target, starts, &self.bounds, &mut others, stats);
-        Decided { decision, others }
+        let mut rest = Vec::new();
+        let decision = self.decide_within(target, starts, &self.bounds, &mut others, Some(&mut rest), stats);
+        Decided { decision, others, rest }
     }
 
     /// The rule that proves, on its own, that no pose in `bounds` shows `target` (the
@@ -274,7 +283,14 @@ impl Problem<'_> {
             constructive: 2,
             boost: 1,
         };
-        decided.decision = self.decide_within(target, &starts, &self.bounds, &mut decided.others, stats);
+        decided.decision = self.decide_within(
+            target,
+            &starts,
+            &self.bounds,
+            &mut decided.others,
+            Some(&mut decided.rest),
+            stats,
+        );
         decided
     }
 
@@ -293,7 +309,11 @@ impl Problem<'_> {
             Some(pose) => Decision::Witnessed(pose),
             None => Decision::Undecided(self.bounds),
         };
-        Decided { decision, others }
+        Decided {
+            decision,
+            others,
+            rest: Vec::new(),
+        }
     }
 
     /// [`Problem::find_below`] as a decision: the witness, or undecided (with the whole
@@ -309,14 +329,17 @@ impl Problem<'_> {
             super::Search::Found(pose) => Decided {
                 decision: Decision::Witnessed(pose),
                 others: Vec::new(),
+                rest: Vec::new(),
             },
             super::Search::NotFound { others } => Decided {
                 decision: Decision::Undecided(self.bounds),
                 others,
+                rest: Vec::new(),
             },
             super::Search::Unreachable => Decided {
                 decision: Decision::Undecided(self.bounds),
                 others: Vec::new(),
+                rest: Vec::new(),
             },
         }
     }
@@ -370,7 +393,7 @@ impl Problem<'_> {
             let Ok(local) = Bounds::try_new(local_lo, local_hi) else {
                 continue;
             };
-            if let Decision::Witnessed(found) = self.decide_within(target, starts, &local, others, stats) {
+            if let Decision::Witnessed(found) = self.decide_within(target, starts, &local, others, None, stats) {
                 return Some(found);
             }
         }
@@ -390,7 +413,7 @@ impl Problem<'_> {
             },
             Err(_) => return true,
         };
-        let mut branching = Branching::new(self.bounds);
+        let mut branching = Branching::new(&[self.bounds]);
         let mut others = Vec::new();
         matches!(
             self.branch(
@@ -407,17 +430,25 @@ impl Problem<'_> {
         )
     }
 
+    /// Boxes the last proofs examine when they go on from the boxes a decision left
+    /// open.
+    fn continued_proof_budget(&self) -> usize {
+        CONTINUED_PROOF_BUDGET * self.effort as usize
+    }
+
     /// The last proof of a candidate left undecided once every search and sweep is
     /// done, with the strongest conditions ([`super::prover::Prover::last_links`]) and
     /// no search in between. First a screen: the box its decision left open (`open`),
     /// split in every component within [`SCREEN_BUDGET`] boxes; a candidate whose open
     /// box stays open there is left undecided at that cost. Then the branch and prune
-    /// over the whole bounds, rotations first, then every component. The proof, or
-    /// `None`.
+    /// goes on from every box the decision left open (`rest`, when it gave them), in
+    /// every component; without them, over the whole bounds, rotations first, then
+    /// every component. The proof, or `None`.
     pub(crate) fn prove_last(
         &self,
         target: &[PrincipalContact],
         open: &Bounds,
+        rest: &[Bounds],
         stats: &mut SearchStats,
     ) -> Option<Proof> {
         let conditions = match self.last_conditions(target) {
@@ -429,8 +460,8 @@ impl Problem<'_> {
                 });
             }
         };
-        let proved = |from: &Bounds, phases: &[(Mode, usize)], stats: &mut SearchStats| {
-            let mut branching = Branching::new(*from);
+        let proved = |from: &[Bounds], phases: &[(Mode, usize)], stats: &mut SearchStats| {
+            let mut branching = Branching::new(from);
             let mut others = Vec::new();
             for &(mode, budget) in phases {
                 branching.open.extend(branching.leaves.drain(..).map(|b| (b, 0)));
@@ -452,10 +483,17 @@ impl Problem<'_> {
             None
         };
         let effort = self.effort as usize;
-        proved(open, &[(Mode::All, SCREEN_BUDGET * effort)], stats)?;
+        proved(&[*open], &[(Mode::All, SCREEN_BUDGET * effort)], stats)?;
+        // Few boxes left open (the decision hands on at most a quarter of the budget):
+        // going on from them reaches deeper than starting again. Many (a decision that
+        // split wide regions it could not exclude): the stronger conditions exclude
+        // more from the whole bounds, at coarse levels.
+        if !rest.is_empty() {
+            return proved(rest, &[(Mode::All, self.continued_proof_budget())], stats);
+        }
         let rotations = PRUNE_BUDGET + SEARCH_BUDGET * effort;
         let all = rotations + (PROOF_BUDGET + LAST_PROOF_BUDGET) * effort;
-        proved(&self.bounds, &[(Mode::Rotations, rotations), (Mode::All, all)], stats)
+        proved(&[self.bounds], &[(Mode::Rotations, rotations), (Mode::All, all)], stats)
     }
 
     /// The states met where `target`'s contacts hold with others touching too: local
@@ -495,6 +533,7 @@ impl Problem<'_> {
         starts: &Starts,
         bounds: &Bounds,
         others: &mut Vec<(Vec<PrincipalContact>, Pose)>,
+        rest: Option<&mut Vec<Bounds>>,
         stats: &mut SearchStats,
     ) -> Decision {
         let conditions = match self.conditions(target) {
@@ -507,7 +546,7 @@ impl Problem<'_> {
             }
         };
         let links = &conditions;
-        let mut branching = Branching::new(*bounds);
+        let mut branching = Branching::new(&[*bounds]);
         // Cheap proofs first, split in rotation only: given the rotation, the contacts
         // are linear in the translation, which propagation narrows directly.
         if let Some(decision) = self.branch(
@@ -561,17 +600,25 @@ impl Problem<'_> {
         // Last, proofs that need the translations split too (non-penetration, the
         // Lipschitz tests), from the boxes left.
         branching.open.extend(branching.leaves.drain(..).map(|b| (b, 0)));
-        self.branch(
-            target,
-            links,
-            Mode::All,
-            &mut branching,
-            budget + PROOF_BUDGET * effort,
-            Some(&mut searches),
-            others,
-            stats,
-        )
-        .unwrap_or_else(|| Decision::Undecided(branching.open().unwrap_or(*bounds)))
+        let decision = self
+            .branch(
+                target,
+                links,
+                Mode::All,
+                &mut branching,
+                budget + PROOF_BUDGET * effort,
+                Some(&mut searches),
+                others,
+                stats,
+            )
+            .unwrap_or_else(|| Decision::Undecided(branching.open().unwrap_or(*bounds)));
+        if let (Decision::Undecided(_), Some(rest)) = (&decision, rest) {
+            // Handed on only when few enough for the last proofs to go on from.
+            if branching.open.len() + branching.leaves.len() <= self.continued_proof_budget() / 4 {
+                *rest = branching.rest();
+            }
+        }
+        decision
     }
 
     /// Examines boxes until none is left open (proof), a witness is found, a box
@@ -1061,14 +1108,23 @@ fn halves(b: &Bounds, k: usize) -> Vec<Bounds> {
 }
 
 impl Branching {
-    /// A branch and prune that starts from the whole of `bounds`.
-    fn new(bounds: Bounds) -> Branching {
+    /// A branch and prune that starts from the whole of each box of `boxes`.
+    fn new(boxes: &[Bounds]) -> Branching {
         Branching {
-            open: std::collections::VecDeque::from([(bounds, 0)]),
+            open: boxes.iter().map(|&b| (b, 0)).collect(),
             examined: 0,
             rules: BTreeSet::new(),
             leaves: Vec::new(),
         }
+    }
+
+    /// Every box still open: the queue's, then those below the slack.
+    fn rest(&self) -> Vec<Bounds> {
+        self.open
+            .iter()
+            .map(|&(b, _)| b)
+            .chain(self.leaves.iter().copied())
+            .collect()
     }
 
     /// The smallest box still open: a box below the slack, else the deepest in the
@@ -1113,6 +1169,21 @@ mod tests {
         let Decision::Undecided(open) = decided.decision else {
             panic!("the decision should leave it open: {:?}", decided.decision);
         };
-        assert!(problem.prove_last(&target, &open, &mut stats).is_some());
+        // It left more boxes open than the last proofs go on from (over 500), so it
+        // hands on none, and the last proofs start again from the whole bounds.
+        assert!(decided.rest.is_empty(), "{} boxes handed on", decided.rest.len());
+        assert!(problem.prove_last(&target, &open, &decided.rest, &mut stats).is_some());
+        // Handed boxes that cover the poses left open (here the two halves of the
+        // bounds), they go on from those.
+        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+        let mut middle = lo;
+        middle[0] = 0.5 * (lo[0] + hi[0]);
+        let mut upper = hi;
+        upper[0] = middle[0];
+        let halves = [
+            Bounds::try_new(lo, upper).unwrap(),
+            Bounds::try_new(middle, hi).unwrap(),
+        ];
+        assert!(problem.prove_last(&target, &open, &halves, &mut stats).is_some());
     }
 }

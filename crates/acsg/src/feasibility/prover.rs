@@ -1319,6 +1319,19 @@ mod tests {
         .unwrap();
         assert_eq!(problem.exclusion(&target, &around), None);
         assert_eq!(problem.last_exclusion(&target, &around), None);
+        // The last proofs going on from handed boxes: from the tilted-in box alone
+        // they prove the candidate; handed the witness's box too, they do not.
+        let mut stats = crate::feasibility::SearchStats::default();
+        assert!(
+            problem
+                .prove_last(&target, &tilted_in, &[tilted_in], &mut stats)
+                .is_some()
+        );
+        assert!(
+            problem
+                .prove_last(&target, &tilted_in, &[tilted_in, around], &mut stats)
+                .is_none()
+        );
     }
 
     #[test]

@@ -27,6 +27,9 @@ pub(crate) struct Store<'a> {
     seen: BTreeSet<Vec<PrincipalContact>>,
     /// Candidates left undecided.
     undecided: Vec<Undecided>,
+    /// Every box a decision over the whole bounds left open, per undecided candidate
+    /// that has them: where the last proofs go on.
+    rests: HashMap<Vec<PrincipalContact>, Vec<Bounds>>,
     /// Every single-contact state found, with its witness, in the order found: what
     /// growth adds to states.
     units: Vec<(Vec<PrincipalContact>, Pose)>,
@@ -50,6 +53,7 @@ impl<'a> Store<'a> {
             index: HashMap::new(),
             seen: BTreeSet::new(),
             undecided: Vec::new(),
+            rests: HashMap::new(),
             units: Vec::new(),
             stats: Stats::default(),
             clock: Instant::now(),
@@ -141,6 +145,20 @@ impl<'a> Store<'a> {
             .iter()
             .filter(|u| !self.index.contains_key(&u.contacts))
             .map(|u| (u.contacts.clone(), u.open))
+            .collect()
+    }
+
+    /// [`Store::undecided_open`] with every box each decision over the whole bounds
+    /// left open (empty when none did), for the last proofs; the store keeps them no
+    /// longer.
+    pub fn undecided_to_prove(&mut self) -> Vec<(Vec<PrincipalContact>, Bounds, Vec<Bounds>)> {
+        let mut rests = std::mem::take(&mut self.rests);
+        self.undecided_open()
+            .into_iter()
+            .map(|(contacts, open)| {
+                let rest = rests.remove(&contacts).unwrap_or_default();
+                (contacts, open, rest)
+            })
             .collect()
     }
 
@@ -256,7 +274,12 @@ impl<'a> Store<'a> {
                 recorded.new += usize::from(matches!(self.add_state(target, pose, problem), Some((_, true))));
             }
             Decision::Infeasible(_) => self.stats.infeasible += 1,
-            Decision::Undecided(open) => self.undecided.push(Undecided { contacts: target, open }),
+            Decision::Undecided(open) => {
+                if !decided.rest.is_empty() {
+                    self.rests.insert(target.clone(), decided.rest);
+                }
+                self.undecided.push(Undecided { contacts: target, open });
+            }
         }
         self.record_others(recorded, decided.others, problem)
     }

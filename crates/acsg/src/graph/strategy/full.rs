@@ -111,16 +111,16 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
 /// ([`Problem::prove_last`]) once nothing more turns up: the sweeps have read the boxes
 /// their decisions left open by then. In parallel, recorded in a fixed order.
 fn prove_last(store: &mut Store<'_>, problem: &Problem<'_>) {
-    let left = store.undecided_open();
+    let left = store.undecided_to_prove();
     let mut results: Vec<(bool, SearchStats)> = Vec::with_capacity(left.len());
     for chunk in left.chunks(BATCH) {
-        results.par_extend(chunk.par_iter().map(|(target, open)| {
+        results.par_extend(chunk.par_iter().map(|(target, open, rest)| {
             let mut stats = SearchStats::default();
-            (problem.prove_last(target, open, &mut stats).is_some(), stats)
+            (problem.prove_last(target, open, rest, &mut stats).is_some(), stats)
         }));
     }
     let mut proved = BTreeSet::new();
-    for ((target, _), (infeasible, stats)) in left.into_iter().zip(results) {
+    for ((target, _, _), (infeasible, stats)) in left.into_iter().zip(results) {
         store.stats.boxes += stats.boxes;
         if infeasible {
             proved.insert(target);

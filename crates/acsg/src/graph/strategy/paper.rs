@@ -170,5 +170,6 @@ fn decided(witness: Option<Pose>, problem: &Problem<'_>) -> Decided {
             None => Decision::Undecided(*problem.bounds()),
         },
         others: Vec::new(),
+        rest: Vec::new(),
     }
 }
