@@ -17,6 +17,8 @@
 //! Every step is an enclosure, so a target is only ever excluded when no pose in the
 //! bounds can show it.
 
+use std::borrow::Cow;
+
 use glam::{DAffine3, DVec3};
 
 mod along;
@@ -235,6 +237,9 @@ pub(super) struct ConvexPart {
     /// `sin(α/2)` for its sharpest corner angle α: a point at distance `D` from the
     /// polygon, in its plane, lies at least `D · sin(α/2)` outside one of its sides.
     sharpest: f64,
+    /// Its Newell normal (the corners' turning sense), kept: the tests of a box ask
+    /// for it every time.
+    normal: DVec3,
 }
 
 impl ConvexPart {
@@ -248,10 +253,16 @@ impl ConvexPart {
             })
             .fold(1.0, f64::min);
         ConvexPart {
+            normal: newell(corners.iter().copied()),
             corners,
             inner,
             sharpest: if sharpest.is_finite() { sharpest.max(0.0) } else { 0.0 },
         }
+    }
+
+    /// `1` when the corners turn counter-clockwise about `n`, else `-1`.
+    fn sense(&self, n: DVec3) -> f64 {
+        self.normal.dot(n).signum()
     }
 }
 
@@ -725,19 +736,9 @@ impl<'a> Prover<'a> {
     /// of its face, its edge as a part of two corners, its vertex as a part of one.
     fn may_overlap(&self, overlap: &Overlap, r: &IntervalMat, t: &IVec) -> bool {
         let s = self.slack;
-        let parts = |part: &Part, shape: &Shape, e: ElementId| -> Vec<Vec<DVec3>> {
-            match e {
-                ElementId::Face(f) => shape.convex_parts[f.index()]
-                    .iter()
-                    .map(|c| c.corners.clone())
-                    .collect(),
-                ElementId::Edge(x) => vec![part.edge(x).vertices.map(|v| shape.vertices[v.index()]).to_vec()],
-                ElementId::Vertex(v) => vec![vec![shape.vertices[v.index()]]],
-            }
-        };
         let (fixed, moving) = (
-            parts(self.fixed, &self.a, overlap.fixed),
-            parts(self.moving, &self.b, overlap.moving),
+            convex_parts_of(self.fixed, &self.a, overlap.fixed),
+            convex_parts_of(self.moving, &self.b, overlap.moving),
         );
         let plane_of = |shape: &Shape, e: ElementId| match e {
             ElementId::Face(f) => Some(shape.planes[f.index()].0),
@@ -753,8 +754,8 @@ impl<'a> Prover<'a> {
         };
         // Some side of `polygon` (in a face of normal `n`) has every point strictly
         // outside it.
-        let separates = |polygon: &[DVec3], n: DVec3, others: &[IVec]| {
-            let sign = newell(polygon.iter().copied()).dot(n).signum();
+        let separates = |(polygon, normal): &(Cow<[DVec3]>, DVec3), n: DVec3, others: &[IVec]| {
+            let sign = normal.dot(n).signum();
             polygon.len() >= 3
                 && sides(polygon).any(|(x, y)| {
                     let inward = sign * n.cross(y - x) / x.distance(y);
@@ -764,10 +765,13 @@ impl<'a> Prover<'a> {
         let fixed_normal = plane_of(&self.a, overlap.fixed);
         let moving_normal = plane_of(&self.b, overlap.moving);
         // Each part's corners carried to the other frame once, not once per pair.
-        let moving_placed: Vec<Vec<IVec>> = moving.iter().map(|q| q.iter().map(|&c| placed(c)).collect()).collect();
+        let moving_placed: Vec<Vec<IVec>> = moving
+            .iter()
+            .map(|q| q.0.iter().map(|&c| placed(c)).collect())
+            .collect();
         let fixed_back: Vec<Vec<IVec>> = fixed
             .iter()
-            .map(|p| p.iter().map(|&c| brought_back(c)).collect())
+            .map(|p| p.0.iter().map(|&c| brought_back(c)).collect())
             .collect();
         fixed.iter().zip(&fixed_back).any(|(p, p_back)| {
             moving.iter().zip(&moving_placed).any(|(q, q_placed)| {
@@ -1138,24 +1142,38 @@ fn outside_some<P>(
 /// touches the face's closure, not the face: it is no gap a witness must keep; one
 /// more than the contact tolerance inside is a gap, or touches the face itself).
 fn over_face(parts: &[ConvexPart], n: DVec3, p: &IVec, margin: f64) -> bool {
-    let corners: Vec<DVec3> = (0..8)
-        .map(|c| {
-            DVec3::new(
-                if c & 1 == 0 { p[0].lo } else { p[0].hi },
-                if c & 2 == 0 { p[1].lo } else { p[1].hi },
-                if c & 4 == 0 { p[2].lo } else { p[2].hi },
-            )
-        })
-        .collect();
+    let corners: [DVec3; 8] = std::array::from_fn(|c| {
+        DVec3::new(
+            if c & 1 == 0 { p[0].lo } else { p[0].hi },
+            if c & 2 == 0 { p[1].lo } else { p[1].hi },
+            if c & 4 == 0 { p[2].lo } else { p[2].hi },
+        )
+    });
     if corners.iter().any(|c| !c.is_finite()) {
         return false;
     }
-    parts.iter().map(|part| &part.corners[..]).any(|polygon| {
-        let sign = newell(polygon.iter().copied()).dot(n).signum();
+    parts.iter().any(|part| {
+        let (polygon, sign) = (&part.corners[..], part.sense(n));
         corners
             .iter()
             .all(|&q| sides(polygon).all(|(x, y)| (y - x).cross(q - x).dot(n) * sign >= margin * x.distance(y)))
     })
+}
+
+/// An element's convex parts, each as its corners and their Newell normal: a face's
+/// cover, an edge as a part of two corners, a vertex as a part of one (normal zero).
+fn convex_parts_of<'s>(part: &Part, shape: &'s Shape, e: ElementId) -> Vec<(Cow<'s, [DVec3]>, DVec3)> {
+    match e {
+        ElementId::Face(f) => shape.convex_parts[f.index()]
+            .iter()
+            .map(|c| (Cow::Borrowed(&c.corners[..]), c.normal))
+            .collect(),
+        ElementId::Edge(x) => vec![(
+            Cow::Owned(part.edge(x).vertices.map(|v| shape.vertices[v.index()]).to_vec()),
+            DVec3::ZERO,
+        )],
+        ElementId::Vertex(v) => vec![(Cow::Owned(vec![shape.vertices[v.index()]]), DVec3::ZERO)],
+    }
 }
 
 /// The sides of a closed polygon, each as its two ends in order.

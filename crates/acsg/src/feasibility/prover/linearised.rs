@@ -29,7 +29,6 @@ struct Cover<'s> {
 }
 use crate::feasibility::interval::Interval;
 use crate::feasibility::lp::{self, Row, VARS};
-use crate::geometry::newell;
 use crate::pose::Bounds;
 
 /// Above this sum of the tilts' (`rx`, `ry`) half-widths the remainder is mostly too
@@ -350,7 +349,12 @@ impl Prover<'_> {
             rows: Vec::new(),
             either: Vec::new(),
             edges_added: Vec::new(),
-            spins: RefCell::default(),
+            // Sized for the moving part's vertices and normals (up to a bound): growing
+            // the map box after box cost more than filling it.
+            spins: RefCell::new(FxHashMap::with_capacity_and_hasher(
+                (self.b.vertices.len() + self.b.planes.len() + 3).min(SPINS_CAPACITY),
+                Default::default(),
+            )),
         };
         linear.contacts(links);
         linear.kept_apart(links);
@@ -593,8 +597,7 @@ impl Linearised<'_, '_> {
         // 2.5 margins in space: over 1.98 in the plane, the height being under one.
         let off_the_rim = super::clear_of(cover.rims, &at, 2.5 * m);
         for part in cover.parts {
-            let polygon = &part.corners[..];
-            let sign = newell(polygon.iter().copied()).dot(face.0).signum();
+            let (polygon, sign) = (&part.corners[..], part.sense(face.0));
             // Outside the face, by 1.98 margins from it: by 1.98 · sin(α/2) (1.5 here)
             // outside a side; asked of the sides inside the face only (outside a side
             // on the rim, the point is off the face whatever the clearance).
@@ -798,6 +801,9 @@ fn hull(base: f64, coef: [f64; 3], lo: &[f64; VARS], hi: &[f64; VARS], rest: f64
     let round_off = 1e-9 * (base.abs() + rest + b - a) + 1e-300;
     Interval::new(a - round_off, b + round_off)
 }
+
+/// The most vectors a box's map of turned vectors is sized for at first.
+const SPINS_CAPACITY: usize = 64;
 
 /// Linear programmes one box may spend on the cases of its either-or conditions.
 const CASES: usize = 24;
