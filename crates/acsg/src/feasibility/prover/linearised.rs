@@ -657,20 +657,52 @@ impl Linearised<'_, '_> {
     /// the other part; `None` when one is inside whatever the pose in the box.
     fn kept_out(&mut self, through: &super::Through) -> Option<()> {
         let (a, b) = (&self.prover.a, &self.prover.b);
-        // Where each vertex is does not depend on the piece: once per vertex.
-        let moved: Vec<IVec> = b.vertices.iter().map(|&w| self.position(true, w)).collect();
+        // Where each vertex is does not depend on the piece: once per vertex, and only
+        // for the vertices whose cheap hull reaches some piece's box (those it misses,
+        // the position misses too: `keep_out_at` would pass them by).
+        let moved: Vec<Option<IVec>> = b
+            .vertices
+            .iter()
+            .map(|&w| self.may_reach_a_piece(true, w).then(|| self.position(true, w)))
+            .collect();
         for j in 0..a.pieces.len() {
             for (&w, at) in b.vertices.iter().zip(&moved) {
-                self.keep_out_at(true, w, at, j)?;
+                if let Some(at) = at {
+                    self.keep_out_at(true, w, at, j)?;
+                }
             }
         }
-        let back: Vec<IVec> = a.vertices.iter().map(|&v| self.position(false, v)).collect();
+        let back: Vec<Option<IVec>> = a
+            .vertices
+            .iter()
+            .map(|&v| self.may_reach_a_piece(false, v).then(|| self.position(false, v)))
+            .collect();
         for j in 0..b.pieces.len() {
             for (&v, at) in a.vertices.iter().zip(&back) {
-                self.keep_out_at(false, v, at, j)?;
+                if let Some(at) = at {
+                    self.keep_out_at(false, v, at, j)?;
+                }
             }
         }
         self.edge_points(through)
+    }
+
+    /// Whether a point of one part (as in [`Linearised::position`]) may come within
+    /// the slack of some piece's box of the other part, by the cheap hulls of its
+    /// coordinates ([`Turn::moving_point_hull`], [`Turn::fixed_point_hull`]).
+    fn may_reach_a_piece(&self, moving: bool, p: DVec3) -> bool {
+        let (lo, hi) = (&self.lo, &self.hi);
+        let hull: IVec = if moving {
+            DVec3::AXES.map(|axis| self.turn.moving_point_hull(axis, p, lo, hi))
+        } else {
+            DVec3::AXES.map(|axis| self.with_spun(axis, |m| self.turn.fixed_point_hull(m, p, lo, hi)))
+        };
+        let s = self.prover.slack;
+        let other = if moving { &self.prover.a } else { &self.prover.b };
+        other
+            .piece_boxes
+            .iter()
+            .any(|(blo, bhi)| (0..3).all(|k| hull[k].hi >= blo[k] - s && hull[k].lo <= bhi[k] + s))
     }
 
     /// [`Linearised::kept_out`] for edge points not yet in.
