@@ -181,10 +181,24 @@ struct Shape {
     /// Per face: convex polygons covering it, for "lies over the face": the face's
     /// outline when it is convex, else its triangles.
     convex_parts: Vec<Vec<ConvexPart>>,
+    /// Per face: its bounding box.
+    face_boxes: Vec<(DVec3, DVec3)>,
 }
 
 impl Shape {
     fn new(part: &Part, frame: &DAffine3) -> Shape {
+        let face_boxes = part
+            .faces()
+            .iter()
+            .map(|f| {
+                bounds_of(
+                    f.outer()
+                        .vertices
+                        .iter()
+                        .map(|&v| frame.transform_point3(part.vertex(v).position)),
+                )
+            })
+            .collect();
         let plane = |n: DVec3, d: f64| {
             let n2 = frame.transform_vector3(n).normalize();
             (n2, n2.dot(frame.transform_point3(n * d)))
@@ -224,6 +238,7 @@ impl Shape {
                     }
                 })
                 .collect(),
+            face_boxes,
         }
     }
 }

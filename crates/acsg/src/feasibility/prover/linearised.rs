@@ -514,6 +514,17 @@ impl Linearised<'_, '_> {
         }
     }
 
+    /// An enclosure of [`Linearised::position`] from the cheap hulls
+    /// ([`Turn::moving_point_hull`], [`Turn::fixed_point_hull`]).
+    fn rough_position(&self, moving: bool, p: DVec3) -> IVec {
+        let (lo, hi) = (&self.lo, &self.hi);
+        if moving {
+            DVec3::AXES.map(|axis| self.turn.moving_point_hull(axis, p, lo, hi))
+        } else {
+            DVec3::AXES.map(|axis| self.with_spun(axis, |m| self.turn.fixed_point_hull(m, p, lo, hi)))
+        }
+    }
+
     /// The height of a point over a plane of the other part.
     fn height(&self, moving: bool, p: DVec3, (n, d): (DVec3, f64)) -> Affine {
         let mut h = if moving {
@@ -528,15 +539,23 @@ impl Linearised<'_, '_> {
     /// The face–vertex pairs a witness keeps apart: a vertex over a face is at least
     /// the margin off its plane, on one side or the other.
     fn kept_apart(&mut self, links: &super::Links) {
+        // Where each vertex may be over the box, by the cheap hulls, once per vertex:
+        // a vertex that stays beyond a face's box by three margins is nowhere near
+        // the face, and the pair sets no condition.
+        let (a, b) = (&self.prover.a, &self.prover.b);
+        let mut reach: [Vec<Option<IVec>>; 2] = [vec![None; b.vertices.len()], vec![None; a.vertices.len()]];
+        let far = 3.0 * self.prover.margin + self.prover.slack;
         for pair in &links.apart {
-            let (moving, vertex, shape, face, held_rim) = match *pair {
-                Apart::FixedFace { face, vertex, held_rim } => {
-                    (true, self.prover.b.vertices[vertex], &self.prover.a, face, held_rim)
-                }
-                Apart::MovingFace { face, vertex, held_rim } => {
-                    (false, self.prover.a.vertices[vertex], &self.prover.b, face, held_rim)
-                }
+            let (moving, index, shape, face, held_rim) = match *pair {
+                Apart::FixedFace { face, vertex, held_rim } => (true, vertex, a, face, held_rim),
+                Apart::MovingFace { face, vertex, held_rim } => (false, vertex, b, face, held_rim),
             };
+            let vertex = if moving { b.vertices[index] } else { a.vertices[index] };
+            let at = *reach[usize::from(!moving)][index].get_or_insert_with(|| self.rough_position(moving, vertex));
+            let (flo, fhi) = shape.face_boxes[face];
+            if (0..3).any(|k| at[k].lo > fhi[k] + far || at[k].hi < flo[k] - far) {
+                continue;
+            }
             let cover = Cover {
                 plane: shape.planes[face],
                 parts: &shape.convex_parts[face],
@@ -691,12 +710,7 @@ impl Linearised<'_, '_> {
     /// the slack of some piece's box of the other part, by the cheap hulls of its
     /// coordinates ([`Turn::moving_point_hull`], [`Turn::fixed_point_hull`]).
     fn may_reach_a_piece(&self, moving: bool, p: DVec3) -> bool {
-        let (lo, hi) = (&self.lo, &self.hi);
-        let hull: IVec = if moving {
-            DVec3::AXES.map(|axis| self.turn.moving_point_hull(axis, p, lo, hi))
-        } else {
-            DVec3::AXES.map(|axis| self.with_spun(axis, |m| self.turn.fixed_point_hull(m, p, lo, hi)))
-        };
+        let hull = self.rough_position(moving, p);
         let s = self.prover.slack;
         let other = if moving { &self.prover.a } else { &self.prover.b };
         other
