@@ -349,6 +349,7 @@ impl Prover<'_> {
             rows: Vec::new(),
             either: Vec::new(),
             edges_added: Vec::new(),
+            rough: [vec![None; self.b.vertices.len()], vec![None; self.a.vertices.len()]],
             // Sized for the moving part's vertices and normals (up to a bound): growing
             // the map box after box cost more than filling it.
             spins: RefCell::new(FxHashMap::with_capacity_and_hasher(
@@ -398,6 +399,9 @@ struct Linearised<'p, 'a> {
     edges_added: Vec<((bool, usize, usize), DVec3)>,
     /// The vectors of the moving part turned so far ([`Turn::spin`]), by their bits.
     spins: RefCell<FxHashMap<[u64; 3], Spun>>,
+    /// The vertices' cheap positions over the box ([`Linearised::rough_position`]), the
+    /// moving part's then the fixed part's, each worked out once.
+    rough: [Vec<Option<IVec>>; 2],
 }
 
 impl Linearised<'_, '_> {
@@ -525,6 +529,18 @@ impl Linearised<'_, '_> {
         }
     }
 
+    /// [`Linearised::rough_position`] of a vertex of one part (the moving part's when
+    /// `moving`), worked out once per box.
+    fn rough_vertex(&mut self, moving: bool, index: usize) -> IVec {
+        if let Some(at) = self.rough[usize::from(!moving)][index] {
+            return at;
+        }
+        let shape = if moving { &self.prover.b } else { &self.prover.a };
+        let at = self.rough_position(moving, shape.vertices[index]);
+        self.rough[usize::from(!moving)][index] = Some(at);
+        at
+    }
+
     /// The height of a point over a plane of the other part.
     fn height(&self, moving: bool, p: DVec3, (n, d): (DVec3, f64)) -> Affine {
         let mut h = if moving {
@@ -539,23 +555,20 @@ impl Linearised<'_, '_> {
     /// The face–vertex pairs a witness keeps apart: a vertex over a face is at least
     /// the margin off its plane, on one side or the other.
     fn kept_apart(&mut self, links: &super::Links) {
-        // Where each vertex may be over the box, by the cheap hulls, once per vertex:
-        // a vertex that stays beyond a face's box by three margins is nowhere near
-        // the face, and the pair sets no condition.
-        let (a, b) = (&self.prover.a, &self.prover.b);
-        let mut reach: [Vec<Option<IVec>>; 2] = [vec![None; b.vertices.len()], vec![None; a.vertices.len()]];
+        // A vertex whose cheap position stays beyond a face's box by three margins is
+        // nowhere near the face: the pair sets no condition.
         let far = 3.0 * self.prover.margin + self.prover.slack;
+        let prover = self.prover;
+        let (a, b) = (&prover.a, &prover.b);
         for pair in &links.apart {
             let (moving, index, shape, face, held_rim) = match *pair {
                 Apart::FixedFace { face, vertex, held_rim } => (true, vertex, a, face, held_rim),
                 Apart::MovingFace { face, vertex, held_rim } => (false, vertex, b, face, held_rim),
             };
-            let vertex = if moving { b.vertices[index] } else { a.vertices[index] };
-            let at = *reach[usize::from(!moving)][index].get_or_insert_with(|| self.rough_position(moving, vertex));
-            let (flo, fhi) = shape.face_boxes[face];
-            if (0..3).any(|k| at[k].lo > fhi[k] + far || at[k].hi < flo[k] - far) {
+            if !near_box(&self.rough_vertex(moving, index), shape.face_boxes[face], far) {
                 continue;
             }
+            let vertex = if moving { b.vertices[index] } else { a.vertices[index] };
             let cover = Cover {
                 plane: shape.planes[face],
                 parts: &shape.convex_parts[face],
@@ -675,48 +688,35 @@ impl Linearised<'_, '_> {
     /// No vertex, and none of the given edge points, strictly inside a convex piece of
     /// the other part; `None` when one is inside whatever the pose in the box.
     fn kept_out(&mut self, through: &super::Through) -> Option<()> {
-        let (a, b) = (&self.prover.a, &self.prover.b);
-        // Where each vertex is does not depend on the piece: once per vertex, and only
-        // for the vertices whose cheap hull reaches some piece's box (those it misses,
-        // the position misses too: `keep_out_at` would pass them by).
-        let moved: Vec<Option<IVec>> = b
-            .vertices
-            .iter()
-            .map(|&w| self.may_reach_a_piece(true, w).then(|| self.position(true, w)))
-            .collect();
-        for j in 0..a.pieces.len() {
-            for (&w, at) in b.vertices.iter().zip(&moved) {
-                if let Some(at) = at {
-                    self.keep_out_at(true, w, at, j)?;
-                }
+        for moving in [true, false] {
+            let prover = self.prover;
+            let (shape, other) = if moving {
+                (&prover.b, &prover.a)
+            } else {
+                (&prover.a, &prover.b)
+            };
+            // Where each vertex is does not depend on the piece: once per vertex, and
+            // only for the vertices whose cheap position reaches some piece's box
+            // (those it misses, the position misses too: `keep_out_at` would pass them).
+            let mut at: Vec<Option<IVec>> = Vec::with_capacity(shape.vertices.len());
+            for (index, &p) in shape.vertices.iter().enumerate() {
+                let rough = self.rough_vertex(moving, index);
+                let s = self.prover.slack;
+                let reaches = other
+                    .piece_boxes
+                    .iter()
+                    .any(|&piece_box| near_box(&rough, piece_box, s));
+                at.push(reaches.then(|| self.position(moving, p)));
             }
-        }
-        let back: Vec<Option<IVec>> = a
-            .vertices
-            .iter()
-            .map(|&v| self.may_reach_a_piece(false, v).then(|| self.position(false, v)))
-            .collect();
-        for j in 0..b.pieces.len() {
-            for (&v, at) in a.vertices.iter().zip(&back) {
-                if let Some(at) = at {
-                    self.keep_out_at(false, v, at, j)?;
+            for j in 0..other.pieces.len() {
+                for (&p, at) in shape.vertices.iter().zip(&at) {
+                    if let Some(at) = at {
+                        self.keep_out_at(moving, p, at, j)?;
+                    }
                 }
             }
         }
         self.edge_points(through)
-    }
-
-    /// Whether a point of one part (as in [`Linearised::position`]) may come within
-    /// the slack of some piece's box of the other part, by the cheap hulls of its
-    /// coordinates ([`Turn::moving_point_hull`], [`Turn::fixed_point_hull`]).
-    fn may_reach_a_piece(&self, moving: bool, p: DVec3) -> bool {
-        let hull = self.rough_position(moving, p);
-        let s = self.prover.slack;
-        let other = if moving { &self.prover.a } else { &self.prover.b };
-        other
-            .piece_boxes
-            .iter()
-            .any(|(blo, bhi)| (0..3).all(|k| hull[k].hi >= blo[k] - s && hull[k].lo <= bhi[k] + s))
     }
 
     /// [`Linearised::kept_out`] for edge points not yet in.
@@ -749,8 +749,7 @@ impl Linearised<'_, '_> {
     fn keep_out_at(&mut self, moving: bool, p: DVec3, at: &IVec, piece: usize) -> Option<()> {
         let s = self.prover.slack;
         let other = if moving { &self.prover.a } else { &self.prover.b };
-        let (blo, bhi) = other.piece_boxes[piece];
-        if !(0..3).all(|k| at[k].hi >= blo[k] - s && at[k].lo <= bhi[k] + s) {
+        if !near_box(at, other.piece_boxes[piece], s) {
             return Some(());
         }
         let mut left: Vec<Row> = other.pieces[piece]
@@ -846,6 +845,12 @@ fn hull(base: f64, coef: [f64; 3], lo: &[f64; VARS], hi: &[f64; VARS], rest: f64
     }
     let round_off = 1e-9 * (base.abs() + rest + b - a) + 1e-300;
     Interval::new(a - round_off, b + round_off)
+}
+
+/// Whether a box of positions comes within `distance` of a box `(lo, hi)` in every
+/// coordinate.
+fn near_box(at: &IVec, (lo, hi): (DVec3, DVec3), distance: f64) -> bool {
+    (0..3).all(|k| at[k].hi >= lo[k] - distance && at[k].lo <= hi[k] + distance)
 }
 
 /// The most vectors a box's map of turned vectors is sized for at first.
