@@ -45,6 +45,10 @@ pub enum Rule {
     /// Two contacts' points are too far apart on one part and too close on the other,
     /// whatever the pose.
     RigidDistance,
+    /// Two point contacts' normals are an angle apart on one part that the other
+    /// part's elements cannot match, under any rotation (a box corner in a
+    /// right-angled groove, for one): a last proof ([`Problem::prove_last`]).
+    NormalAngles,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,
     /// Interval constraint propagation of the contacts and of non-penetration of
@@ -235,8 +239,17 @@ impl Problem<'_> {
         self.conditions_from(target, |target| self.prover.links(target))
     }
 
-    /// [`Problem::conditions`] for the last proofs ([`super::prover::Prover::last_links`]).
+    /// [`Problem::conditions`] for the last proofs ([`super::prover::Prover::last_links`]),
+    /// with the contacts' normals compared first ([`super::normals`]). That test
+    /// waits for the last proofs, although it is cheap and sound from the start: the
+    /// searches of candidates that hold only in the limit of a larger state (a corner
+    /// in a groove, its edge nearly along it) land on the slivers next to that state,
+    /// states no other search finds (the built-in example's bottom edge on the floor
+    /// with an upright edge on the wall and the top edges crossing).
     fn last_conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
+        if !super::normals::normals_compatible(self.fixed, self.moving, target) {
+            return Err(Rule::NormalAngles);
+        }
         self.conditions_from(target, |target| self.prover.last_links(target))
     }
 

@@ -27,6 +27,7 @@ mod below;
 mod decide;
 mod interval;
 mod lp;
+mod normals;
 mod prover;
 mod residual;
 mod slices;
