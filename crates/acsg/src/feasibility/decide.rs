@@ -49,6 +49,10 @@ pub enum Rule {
     /// part's elements cannot match, under any rotation (a box corner in a
     /// right-angled groove, for one): a last proof ([`Problem::prove_last`]).
     NormalAngles,
+    /// A corner of one part on a face of the other, and another contact's point in a
+    /// convex face at that corner and on the same plane: the face would lie flush or
+    /// cross the plane at the corner (`feasibility::hinge`); a last proof.
+    FaceHinge,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,
     /// Interval constraint propagation of the contacts and of non-penetration of
@@ -249,6 +253,11 @@ impl Problem<'_> {
     fn last_conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
         if !super::normals::normals_compatible(self.fixed, self.moving, target) {
             return Err(Rule::NormalAngles);
+        }
+        if super::hinge::hinged(self.fixed, self.moving, target, self.scale, |fixed, a, b| {
+            self.scene.distance_within(fixed, a, b)
+        }) {
+            return Err(Rule::FaceHinge);
         }
         self.conditions_from(target, |target| self.prover.last_links(target))
     }

@@ -25,6 +25,7 @@
 
 mod below;
 mod decide;
+mod hinge;
 mod interval;
 mod lp;
 mod normals;

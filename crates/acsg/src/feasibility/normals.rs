@@ -7,10 +7,11 @@
 //! negated): a face has one normal, a convex edge the arc between its faces' normals,
 //! a convex vertex the spherical polygon of its faces' normals. A vertex in a concave
 //! edge touches both of the edge's faces, so both their normals go into the vertex's
-//! cone. A robust witness keeps each such normal inside its set: an edge leaving the
-//! contact that turned within `μ` (a sine) of the other element's face would lie
-//! within `μ L` of its plane over its whole stretch on the face, which a checker at the
-//! loose tolerance (just under `1e-6 L`) reads as lying in it (docs/concepts.md#tolerances).
+//! cone. A robust witness keeps each such normal inside its set by the margin `μ`: an
+//! edge leaving the contact that turned within `μ` (a sine) of the other element's
+//! face would lie within `μ L` of its plane over its whole stretch on the face, which
+//! a checker at the loose tolerance (just under `1e-6 L`) reads as lying in it
+//! (docs/concepts.md#tolerances).
 //!
 //! The rotation keeps angles, so two such conditions `u_i ∈ P_i, Rᵀ u_i ∈ Q_i` and
 //! `u_k ∈ P_k, Rᵀ u_k ∈ Q_k` need the angles between `P_i` and `P_k` to meet those
@@ -29,9 +30,10 @@ use crate::contact::{ContactKind, PrincipalContact};
 use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 
 /// How far inside its normal set a robust witness keeps each contact normal (a sine):
-/// a hundredth of the separation tolerance's `1e-6`, which bounds it from below for
-/// any edge no longer than `L`.
-pub(crate) const NORMAL_MARGIN: f64 = 1e-8;
+/// a tenth of the loose tolerance's `0.99e-6`, which bounds it from below for any edge
+/// no longer than `L` (an edge turned closer to a face lies within `0.99e-6 L` of its
+/// plane over its whole stretch on it).
+pub(crate) const NORMAL_MARGIN: f64 = 1e-7;
 
 /// Round-off allowed in the angles compared (radians).
 const ANGLE_SLACK: f64 = 1e-12;
