@@ -49,9 +49,10 @@ pub enum Rule {
     /// part's elements cannot match, under any rotation (a box corner in a
     /// right-angled groove, for one): a last proof ([`Problem::prove_last`]).
     NormalAngles,
-    /// A corner of one part on a face of the other, and another contact's point in a
-    /// convex face at that corner and on the same plane: the face would lie flush or
-    /// cross the plane at the corner (`feasibility::hinge`); a last proof.
+    /// A corner of one part on a face of the other (or two crossing edges), and another
+    /// contact's point in a convex face at that corner (at the edges) and on the same
+    /// plane: the face would lie flush or cross the plane there
+    /// (`feasibility::hinge`); a last proof.
     FaceHinge,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,
@@ -240,7 +241,7 @@ impl Problem<'_> {
     /// What a target's boxes are tested against; the rule that already rules the
     /// target out whatever the pose, if one does.
     fn conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
-        self.conditions_from(target, |target| self.prover.links(target))
+        self.conditions_from(target, |target| self.prover.links(target), false)
     }
 
     /// [`Problem::conditions`] for the last proofs ([`super::prover::Prover::last_links`]),
@@ -256,16 +257,19 @@ impl Problem<'_> {
         }
         if super::hinge::hinged(self.fixed, self.moving, target, self.scale, |fixed, a, b| {
             self.scene.distance_within(fixed, a, b)
-        }) {
+        }) || super::hinge::crossing_hinged(self.fixed, self.moving, target, self.scale)
+        {
             return Err(Rule::FaceHinge);
         }
-        self.conditions_from(target, |target| self.prover.last_links(target))
+        self.conditions_from(target, |target| self.prover.last_links(target), true)
     }
 
+    /// With `strict`, the last proofs' rotation conditions ([`Problem::strict_turns`]).
     fn conditions_from(
         &self,
         target: &[PrincipalContact],
         links: impl FnOnce(&[PrincipalContact]) -> Option<super::prover::Links>,
+        strict: bool,
     ) -> Result<Conditions, Rule> {
         if !self.rigidly_compatible(target) {
             return Err(Rule::RigidDistance);
@@ -273,7 +277,7 @@ impl Problem<'_> {
         let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {
             links,
-            turns: self.turns(target),
+            turns: if strict { self.strict_turns(target) } else { self.turns(target) },
         })
     }
 

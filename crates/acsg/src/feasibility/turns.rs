@@ -289,14 +289,32 @@ impl Turns {
 impl Problem<'_> {
     /// The rotation-only conditions of every contact of a target.
     pub(crate) fn turns(&self, target: &[PrincipalContact]) -> Turns {
+        self.turns_with(target, -LEVER_SLACK)
+    }
+
+    /// [`Problem::turns`] for the last proofs: the parts' directions leaving a contact
+    /// with a face rise off it by at least the normals' margin
+    /// ([`super::normals::NORMAL_MARGIN`]). Near the contact the other part lies
+    /// behind the face for at least the separation a witness keeps from the face's
+    /// rim, so a direction that dips penetrates there, or, within the contact
+    /// tolerance over that stretch (a sine below `1e-3`, under [`crate::tolerance::FLUSH_TILT`]),
+    /// lies in the face as read over the overlap; one that rises by less than the
+    /// margin lies within the loose tolerance of the face over all of its stretch on it.
+    pub(crate) fn strict_turns(&self, target: &[PrincipalContact]) -> Turns {
+        self.turns_with(target, super::normals::NORMAL_MARGIN)
+    }
+
+    /// The rotation-only conditions, with `least` the smallest value `n · (R d)` of a
+    /// direction leaving a contact with a face.
+    fn turns_with(&self, target: &[PrincipalContact], least: f64) -> Turns {
         let mut turns = Turns::default();
         for pc in target {
-            self.add_turns(pc, target, &mut turns);
+            self.add_turns(pc, target, least, &mut turns);
         }
         turns
     }
 
-    fn add_turns(&self, pc: &PrincipalContact, target: &[PrincipalContact], out: &mut Turns) {
+    fn add_turns(&self, pc: &PrincipalContact, target: &[PrincipalContact], least: f64, out: &mut Turns) {
         // A contact holds to the contact tolerance: an edge of length ℓ lies in a face
         // when its ends are that close to the plane, so its direction may be off the
         // plane by (tolerance / ℓ); ten times that, as the prover allows.
@@ -357,7 +375,7 @@ impl Problem<'_> {
             (ElementId::Face(f), b) => {
                 let n = to_g(self.fixed.face(f).normal);
                 for (d, flat) in leaving(self.moving, b) {
-                    out.turns.push(turn(n, d, -LEVER_SLACK, f64::INFINITY));
+                    out.turns.push(turn(n, d, least, f64::INFINITY));
                     out.avoid.push(turn(n, d, -flat, flat));
                 }
                 for (d, slack) in within(self.moving, b) {
@@ -389,7 +407,7 @@ impl Problem<'_> {
                 // In B's frame: A's directions d against R n_g, i.e. d · (R n_g).
                 let m = self.moving.face(g).normal;
                 for (d, flat) in leaving(self.fixed, a) {
-                    out.turns.push(turn(to_g(d), m, -LEVER_SLACK, f64::INFINITY));
+                    out.turns.push(turn(to_g(d), m, least, f64::INFINITY));
                     out.avoid.push(turn(to_g(d), m, -flat, flat));
                 }
                 for (d, slack) in within(self.fixed, a) {
