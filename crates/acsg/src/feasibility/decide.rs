@@ -49,10 +49,9 @@ pub enum Rule {
     /// part's elements cannot match, under any rotation (a box corner in a
     /// right-angled groove, for one): a last proof ([`Problem::prove_last`]).
     NormalAngles,
-    /// A corner of one part on a face of the other (or two crossing edges), and another
-    /// contact's point in a convex face at that corner (at the edges) and on the same
-    /// plane: the face would lie flush or cross the plane there
-    /// (`feasibility::hinge`); a last proof.
+    /// A corner of one part on a face of the other, and another contact's point in a
+    /// convex face at that corner and on the same plane: the face would lie flush or
+    /// cross the plane at the corner (`feasibility::hinge`); a last proof.
     FaceHinge,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,
@@ -257,8 +256,7 @@ impl Problem<'_> {
         }
         if super::hinge::hinged(self.fixed, self.moving, target, self.scale, |fixed, a, b| {
             self.scene.distance_within(fixed, a, b)
-        }) || super::hinge::crossing_hinged(self.fixed, self.moving, target, self.scale)
-        {
+        }) {
             return Err(Rule::FaceHinge);
         }
         self.conditions_from(target, |target| self.prover.last_links(target), true)
@@ -277,7 +275,11 @@ impl Problem<'_> {
         let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {
             links,
-            turns: if strict { self.strict_turns(target) } else { self.turns(target) },
+            turns: if strict {
+                self.strict_turns(target)
+            } else {
+                self.turns(target)
+            },
         })
     }
 

@@ -17,7 +17,7 @@
 
 use super::normals::NORMAL_MARGIN;
 use crate::contact::{ContactKind, PrincipalContact};
-use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
+use crate::model::{ElementId, FaceId, Part, VertexId};
 use crate::tolerance::{CONTACT_REL, scaled};
 
 /// Whether some two contacts of `target` hinge a face on a face (see the module's
@@ -60,64 +60,6 @@ pub(crate) fn hinged(
     })
 }
 
-/// Whether a crossing of two edges and another contact hinge a face of each part on
-/// the crossing's plane: with `u` the crossing's normal, a robust witness keeps each
-/// face at the fixed edge at least the margin `μ` (a sine) below the plane through
-/// both edges, and each face at the moving edge that much above it (the wedges'
-/// separation, by the margin of [`super::normals`]). A point of a convex face at the
-/// fixed edge `d_A` from that edge's line then lies at least `μ d_A` below the plane,
-/// and a point of a convex face at the moving edge `d_B` from its line `μ d_B` above
-/// it. Another contact holding a point of the one face within the contact tolerance
-/// of a point of the other needs `μ (d_A + d_B)` within twice that tolerance (the
-/// crossing holds its edges that close too).
-pub(crate) fn crossing_hinged(fixed: &Part, moving: &Part, target: &[PrincipalContact], scale: f64) -> bool {
-    let least = 4.0 * scaled(CONTACT_REL, scale) / NORMAL_MARGIN;
-    target.iter().any(|crossing| {
-        let (ContactKind::EdgeEdge, ElementId::Edge(a), ElementId::Edge(b)) =
-            (crossing.kind, crossing.fixed, crossing.moving)
-        else {
-            return false;
-        };
-        if !fixed.edge(a).convex || !moving.edge(b).convex {
-            return false;
-        }
-        target.iter().filter(|other| *other != crossing).any(|other| {
-            let reach = |part: &Part, edge: EdgeId, element: ElementId| {
-                part.edge(edge)
-                    .faces
-                    .iter()
-                    .filter(|&&f| convex_side(part, f, edge) && part.in_closure(ElementId::Face(f), element))
-                    .map(|_| distance_from_line(part, edge, element))
-                    .fold(None, |best: Option<f64>, d| Some(best.map_or(d, |b| b.max(d))))
-            };
-            match (reach(fixed, a, other.fixed), reach(moving, b, other.moving)) {
-                (Some(d_a), Some(d_b)) => d_a + d_b > least,
-                _ => false,
-            }
-        })
-    })
-}
-
-/// The least distance from an element's closure (its vertices: it lies in a convex
-/// face through the line, where that distance is linear) to the line of an edge.
-fn distance_from_line(part: &Part, edge: EdgeId, element: ElementId) -> f64 {
-    let [p, q] = part.edge_points(edge);
-    let d = (q - p).normalize();
-    part.closure_vertices(element)
-        .into_iter()
-        .map(|v| {
-            let w = part.vertex(v).position - p;
-            (w - w.dot(d) * d).length()
-        })
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Whether face `f` is convex with `edge` on its outer loop: the face then lies on one
-/// side of the edge's line.
-fn convex_side(part: &Part, f: FaceId, edge: EdgeId) -> bool {
-    part.face(f).outer().edges.contains(&edge) && !part.face_outline_is_nonconvex(f)
-}
-
 /// Whether face `g` is convex with `v` on its outer loop: the face then lies inside
 /// its corner at `v`.
 fn convex_corner(part: &Part, g: FaceId, v: VertexId) -> bool {
@@ -158,20 +100,5 @@ mod tests {
             contact("f5", "v4", K::FaceVertex),
             contact("e7", "e10", K::EdgeEdge)
         ]));
-    }
-
-    #[test]
-    fn a_crossing_on_the_walls_top_edge_and_the_walls_foot_on_the_crossing_boxs_face_hinge_the_faces() {
-        // The box's top edge e10 crosses the wall's top edge e10; the wall's corner v4
-        // (150, 0, 50), 100 mm below the wall's top edge in the wall f5, lies on the
-        // box's side face f5, which holds the box's top edge. The plane through both
-        // edges has the wall below it, the box's face above it; a point on both is
-        // only possible with the faces flush.
-        let (block, cuboid) = crate::examples::l_block_and_box();
-        let scale = ContactScene::new(&block, &cuboid).scale();
-        let crossing = contact("e10", "e10", K::EdgeEdge);
-        assert!(crossing_hinged(&block, &cuboid, &[crossing, contact("v4", "f5", K::VertexFace)], scale));
-        // The L-block's far corner v0 (0, 0, 0) lies in no face at the wall's top edge.
-        assert!(!crossing_hinged(&block, &cuboid, &[crossing, contact("v0", "f5", K::VertexFace)], scale));
     }
 }

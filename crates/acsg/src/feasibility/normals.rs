@@ -1,18 +1,19 @@
 //! Contact normals on the Gauss sphere: a rotation-invariant test of whether a
 //! target's point contacts can hold under one rotation.
 //!
-//! At a point contact that no penetration crosses, the contact normal `u` (outward of
-//! the fixed part, in its frame) lies in the fixed element's outward normal cone and
-//! `Rᵀ u` in the moving element's inward one (the moving element's outward normals,
-//! negated): a face has one normal, a convex edge the arc between its faces' normals,
+//! At a vertex touching a face (f-v, v-f) the face's normal `u` (outward of the fixed
+//! part, in its frame) lies in the fixed element's outward normal set and `Rᵀ u` in the
+//! moving element's inward one (its outward normals, negated): a face has one normal,
 //! a convex vertex the spherical polygon of its faces' normals. A vertex in a concave
 //! edge touches both of the edge's faces, so both their normals go into the vertex's
-//! cone. A robust witness keeps each such normal inside its set by the margin `μ`: an
-//! edge leaving the contact that turned within `μ` (a sine) of the other element's
-//! face would lie within `μ L` of its plane over its whole stretch on the face, which
-//! a checker at the loose tolerance (just under `1e-6 L`) reads as lying in it
-//! (docs/concepts.md#tolerances).
-//!
+//! polygon. A robust witness keeps each such normal inside its set by the margin `μ`
+//! (DOMAIN §7: every checker whose tolerance lies between `1e-9 L` and `1e-6 L` reads
+//! the same state): an edge leaving the vertex that rises by less than `μ` (a sine)
+//! lies within `μ L` of the face's plane over its whole stretch on the face, which such
+//! a checker reads as lying in it; one that dips below it penetrates the face's part
+//! near the vertex, or lies within the contact tolerance of it there, read the same
+//! way.
+
 //! The rotation keeps angles, so two such conditions `u_i ∈ P_i, Rᵀ u_i ∈ Q_i` and
 //! `u_k ∈ P_k, Rᵀ u_k ∈ Q_k` need the angles between `P_i` and `P_k` to meet those
 //! between `Q_i` and `Q_k`. When the two ranges are apart, no rotation at all shows
@@ -22,7 +23,10 @@
 //!
 //! Contacts along a segment or over an area (f-f, f-e, e-f, e-e-t) pin their normals
 //! only to the contact tolerance over the contact's length, which may be short; they
-//! set no condition here, nor do contacts at non-convex vertices.
+//! set no condition here, nor do contacts at non-convex vertices. Nor do crossing
+//! edges: near an edge's end a witness may have both parts below the plane through
+//! two nearly parallel crossing edges (the wall's face separates them there), so the
+//! crossing's normal need not lie in the edges' normal arcs.
 
 use glam::DVec3;
 
@@ -86,9 +90,6 @@ fn conditions_of(fixed: &Part, moving: &Part, pc: &PrincipalContact) -> Vec<Norm
         (ContactKind::VertexFace, ElementId::Vertex(v), ElementId::Face(g)) => {
             pair(vertex_cone(fixed, v, 1.0), Some(point(-moving.face(g).normal)))
         }
-        (ContactKind::EdgeEdge, ElementId::Edge(e), ElementId::Edge(x)) => {
-            pair(edge_arc(fixed, e, 1.0), edge_arc(moving, x, -1.0))
-        }
         (ContactKind::EdgeVertex, ElementId::Edge(e), ElementId::Vertex(v)) if !fixed.edge(e).convex => {
             let Some(cone) = vertex_cone(moving, v, -1.0) else {
                 return Vec::new();
@@ -128,24 +129,6 @@ fn point(n: DVec3) -> NormalSet {
 fn groove_normals(part: &Part, e: EdgeId, sign: f64) -> [DVec3; 2] {
     let [f, g] = part.edge(e).faces;
     [sign * part.face(f).normal, sign * part.face(g).normal]
-}
-
-/// The normal arc of a convex edge (its faces' normals times `sign`), cut by the margin
-/// at both ends: a normal at an end lies in that face, and the other edge with it.
-fn edge_arc(part: &Part, e: EdgeId, sign: f64) -> Option<NormalSet> {
-    if !part.edge(e).convex {
-        return None;
-    }
-    let [a, b] = groove_normals(part, e, sign);
-    let length = angle(a, b);
-    let cut = NORMAL_MARGIN.asin();
-    if length <= 2.0 * cut + ANGLE_SLACK {
-        return None;
-    }
-    Some(NormalSet {
-        corners: vec![slerp(a, b, cut / length), slerp(a, b, 1.0 - cut / length)],
-        inset: 0.0,
-    })
 }
 
 /// The outward normal cone of a convex vertex (its faces' normals times `sign`), as a
@@ -296,13 +279,6 @@ fn distance_to(s: &NormalSet, x: DVec3) -> f64 {
 /// The angle between two unit vectors, accurate near 0 and π.
 fn angle(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b))
-}
-
-/// The point a share `t` of the way along the arc from `a` to `b`.
-fn slerp(a: DVec3, b: DVec3, t: f64) -> DVec3 {
-    let theta = angle(a, b);
-    let s = theta.sin();
-    ((((1.0 - t) * theta).sin() * a + (t * theta).sin() * b) / s).normalize()
 }
 
 #[cfg(test)]

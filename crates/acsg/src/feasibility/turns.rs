@@ -294,12 +294,13 @@ impl Problem<'_> {
 
     /// [`Problem::turns`] for the last proofs: the parts' directions leaving a contact
     /// with a face rise off it by at least the normals' margin
-    /// ([`super::normals::NORMAL_MARGIN`]). Near the contact the other part lies
-    /// behind the face for at least the separation a witness keeps from the face's
-    /// rim, so a direction that dips penetrates there, or, within the contact
-    /// tolerance over that stretch (a sine below `1e-3`, under [`crate::tolerance::FLUSH_TILT`]),
-    /// lies in the face as read over the overlap; one that rises by less than the
-    /// margin lies within the loose tolerance of the face over all of its stretch on it.
+    /// ([`super::normals::NORMAL_MARGIN`]). A direction that dips penetrates the
+    /// face's part near the contact, or (dipping less than the contact tolerance over
+    /// its stretch on the face) lies within that tolerance of the face there; one that
+    /// rises by less than the margin lies within `1e-7 L` of the face over its whole
+    /// stretch on it. Either way some checker with a tolerance between `1e-9 L` and
+    /// `1e-6 L` reads it lying in the face, so no robust witness has it. The decisions
+    /// let it dip by [`LEVER_SLACK`].
     pub(crate) fn strict_turns(&self, target: &[PrincipalContact]) -> Turns {
         self.turns_with(target, super::normals::NORMAL_MARGIN)
     }
@@ -622,6 +623,7 @@ mod tests {
         assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(target.clone()));
         let at = Bounds::try_new(x, x).unwrap();
         assert!(problem.turns(&target).may_hold(&at));
+        assert!(problem.strict_turns(&target).may_hold(&at));
         // Turned 0.1 rad instead, the edges are far from parallel and the wedge rule
         // stands: both parts below the plane through the edges cannot be.
         let mut far = x;
@@ -695,6 +697,7 @@ mod tests {
         assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(target.clone()));
         let at = Bounds::try_new(x, x).unwrap();
         assert!(problem.turns(&target).may_hold(&at));
+        assert!(problem.strict_turns(&target).may_hold(&at));
     }
 
     #[test]
@@ -716,5 +719,36 @@ mod tests {
         assert!(shaved.min.rx <= 0.0 && shaved.max.rx >= 0.0);
         assert!(shaved.min.ry <= 0.0 && shaved.max.ry >= 0.0);
         assert_eq!((shaved.min.rz, shaved.max.rz), (-0.3, 0.3));
+    }
+
+    #[test]
+    fn the_last_proofs_see_an_upright_edge_of_a_corner_on_the_wall_dip_into_it() {
+        // The peg's bottom corner v0 (36, 36, 10) on the plain hole's wall f5 (x = 35,
+        // normal +x), the peg tilted by rx in [0.013, 0.0175] and ry in [-0.006,
+        // -0.005]: its upright edge from v0 turns to R e_z = (cos rx sin ry, -sin rx,
+        // cos rx cos ry), whose x is below -0.0049, into the wall. The decisions allow
+        // a dip of LEVER_SLACK (8e-3) past a rim as close as half the separation; the
+        // last proofs do not (the corner keeps the separation inside the wall).
+        let (a, b) = (
+            crate::testing::fixture("block_with_hole.off"),
+            crate::testing::fixture("peg.off"),
+        );
+        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -0.02, -0.02, 0.0], [1.0, 1.0, 45.0, 0.02, 0.02, 0.0]).unwrap();
+        let problem = Problem::new(&a, &b, bounds, glam::DAffine3::IDENTITY);
+        let corner = [crate::testing::contact("f5", "v0", K::FaceVertex)];
+        let tilted = Bounds::try_new(
+            [-1.0, -1.0, 38.0, 0.013, -0.006, 0.0],
+            [1.0, 1.0, 40.0, 0.0175, -0.005, 0.0],
+        )
+        .unwrap();
+        assert!(problem.turns(&corner).may_hold(&tilted));
+        assert!(!problem.strict_turns(&corner).may_hold(&tilted));
+        // Leaning the other way, the edge rises off the wall.
+        let away = Bounds::try_new(
+            [-1.0, -1.0, 38.0, 0.013, 0.005, 0.0],
+            [1.0, 1.0, 40.0, 0.0175, 0.006, 0.0],
+        )
+        .unwrap();
+        assert!(problem.strict_turns(&corner).may_hold(&away));
     }
 }
