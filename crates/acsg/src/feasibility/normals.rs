@@ -42,11 +42,12 @@ pub(crate) const NORMAL_MARGIN: f64 = 1e-7;
 /// Round-off allowed in the angles compared (radians).
 const ANGLE_SLACK: f64 = 1e-12;
 
-/// A closed convex set of unit vectors on the sphere: one point, an arc from the first
-/// corner to the second, or a polygon (corners counter-clockwise seen from outside).
-/// Every point of the set a robust witness may use lies at least `inset` (an angle)
-/// inside it, in every direction along the sphere (polygons only; points and arcs are
-/// already cut to what a witness may use).
+/// A closed convex set of unit vectors on the sphere: one point (a face's normal) or a
+/// polygon (a convex vertex's face normals, counter-clockwise seen from outside; two
+/// corners would make an arc). Every point of a polygon that a robust witness may use
+/// lies at least `inset` (an angle) inside it, in every direction along the sphere: a
+/// side's great circle is normal to the vertex's edge between its two faces, and the
+/// witness keeps that edge rising by the margin.
 #[derive(Clone, Debug)]
 struct NormalSet {
     corners: Vec<DVec3>,
