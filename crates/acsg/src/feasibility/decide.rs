@@ -240,7 +240,7 @@ impl Problem<'_> {
     /// What a target's boxes are tested against; the rule that already rules the
     /// target out whatever the pose, if one does.
     fn conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
-        self.conditions_from(target, |target| self.prover.links(target), false)
+        self.conditions_from(target, |target| self.prover.links(target), |target| self.turns(target))
     }
 
     /// [`Problem::conditions`] for the last proofs ([`super::prover::Prover::last_links`]),
@@ -259,15 +259,18 @@ impl Problem<'_> {
         }) {
             return Err(Rule::FaceHinge);
         }
-        self.conditions_from(target, |target| self.prover.last_links(target), true)
+        self.conditions_from(
+            target,
+            |target| self.prover.last_links(target),
+            |target| self.strict_turns(target),
+        )
     }
 
-    /// With `strict`, the last proofs' rotation conditions ([`Problem::strict_turns`]).
     fn conditions_from(
         &self,
         target: &[PrincipalContact],
         links: impl FnOnce(&[PrincipalContact]) -> Option<super::prover::Links>,
-        strict: bool,
+        turns: impl FnOnce(&[PrincipalContact]) -> Turns,
     ) -> Result<Conditions, Rule> {
         if !self.rigidly_compatible(target) {
             return Err(Rule::RigidDistance);
@@ -275,11 +278,7 @@ impl Problem<'_> {
         let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {
             links,
-            turns: if strict {
-                self.strict_turns(target)
-            } else {
-                self.turns(target)
-            },
+            turns: turns(target),
         })
     }
 

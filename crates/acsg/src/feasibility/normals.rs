@@ -43,8 +43,8 @@ pub(crate) const NORMAL_MARGIN: f64 = 1e-7;
 const ANGLE_SLACK: f64 = 1e-12;
 
 /// A closed convex set of unit vectors on the sphere: one point (a face's normal) or a
-/// polygon (a convex vertex's face normals, counter-clockwise seen from outside; two
-/// corners would make an arc). Every point of a polygon that a robust witness may use
+/// polygon (a convex vertex's face normals, at least three, counter-clockwise seen from
+/// outside). Every point of a polygon that a robust witness may use
 /// lies at least `inset` (an angle) inside it, in every direction along the sphere: a
 /// side's great circle is normal to the vertex's edge between its two faces, and the
 /// witness keeps that edge rising by the margin.
@@ -233,19 +233,18 @@ impl NormalSet {
     }
 }
 
-/// The sides of a set: an arc's one, a polygon's in turn, none for a point.
+/// The sides of a set: a polygon's in turn, none for a point.
 fn sides(s: &NormalSet) -> Vec<(DVec3, DVec3)> {
-    match s.corners.len() {
-        1 => Vec::new(),
-        2 => vec![(s.corners[0], s.corners[1])],
-        n => (0..n).map(|j| (s.corners[j], s.corners[(j + 1) % n])).collect(),
+    match s.corners.as_slice() {
+        [_] => Vec::new(),
+        c => (0..c.len()).map(|j| (c[j], c[(j + 1) % c.len()])).collect(),
     }
 }
 
 /// Whether `x` may lie in the set (inclusive, with round-off counted in).
 fn may_contain(s: &NormalSet, x: DVec3) -> bool {
-    match s.corners.len() {
-        1 | 2 => distance_to(s, x) <= ANGLE_SLACK,
+    match s.corners.as_slice() {
+        [c] => angle(*c, x) <= ANGLE_SLACK,
         _ => sides(s).iter().all(|&(a, b)| a.cross(b).dot(x) >= -ANGLE_SLACK),
     }
 }
