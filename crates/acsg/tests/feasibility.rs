@@ -887,5 +887,26 @@ fn a_box_corner_just_past_the_floors_front_edge_reads_the_front_edge_in_its_bott
     }
     let gap = scene.evaluate(&placement, CONTACT_REL).min_gap;
     assert!(gap.is_some_and(|g| g >= SEPARATION_REL * scene.scale()), "{gap:?}");
+    // The reason, by hand: where the bottom face's edges e9 (+y in the box) and e2
+    // (−x) pass over the front edge's line (y = 0), the front edge lies within the
+    // contact tolerance of the face's plane, at two points inside the front edge and
+    // farther apart than twice that tolerance.
+    let tolerance = CONTACT_REL * scene.scale();
+    let face_normal = rotation * DVec3::NEG_Z;
+    let crossings: Vec<DVec3> = [DVec3::Y, DVec3::NEG_X]
+        .map(|d| {
+            let d = rotation * d;
+            let on_floor_edge = past - d * (past.y / d.y);
+            DVec3::new(on_floor_edge.x, 0.0, 50.0)
+        })
+        .to_vec();
+    for q in &crossings {
+        assert!(q.x > 0.0 && q.x < 150.0, "{q:?} off the front edge");
+        assert!(
+            face_normal.dot(*q - past).abs() <= tolerance,
+            "{q:?} off the face's plane"
+        );
+    }
+    assert!(crossings[0].distance(crossings[1]) > 2.0 * tolerance);
     assert_eq!(problem.verify(&pose), None);
 }

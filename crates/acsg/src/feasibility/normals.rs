@@ -13,7 +13,7 @@
 //! a checker reads as lying in it; one that dips below it penetrates the face's part
 //! near the vertex, or lies within the contact tolerance of it there, read the same
 //! way.
-
+//!
 //! The rotation keeps angles, so two such conditions `u_i ∈ P_i, Rᵀ u_i ∈ Q_i` and
 //! `u_k ∈ P_k, Rᵀ u_k ∈ Q_k` need the angles between `P_i` and `P_k` to meet those
 //! between `Q_i` and `Q_k`. When the two ranges are apart, no rotation at all shows
