@@ -120,6 +120,11 @@ pub(crate) enum Command {
     /// Generate the graph of the built-in example (the paper's L-block and box, each
     /// rotation within ±18°, x and y within ±5 mm, z from 0 to 240 mm): no files needed.
     Demo {
+        /// Other bounds for the built-in parts, as `generate --bounds` takes them (e.g.
+        /// x=-1:1,y=-1:1,z=0:5,rz=-2:2: a graph of a few states in seconds); omitted
+        /// components are fixed at 0.
+        #[arg(long, allow_hyphen_values = true)]
+        bounds: Option<String>,
         #[command(flatten)]
         run: RunFlags,
     },

@@ -80,7 +80,7 @@ pub(crate) fn run(cli: Cli) -> anyhow::Result<()> {
             };
             run_batch(&manifest, &flags)
         }
-        Command::Demo { run } => demo(run),
+        Command::Demo { bounds, run } => demo(bounds.as_deref(), run),
         Command::Report { graph, output } => report(&graph, output),
         Command::Export { graph, format, output } => export(&graph, format, output.as_deref()),
     }
@@ -154,12 +154,16 @@ fn generate(
     generate_and_write(parts, job, run, None)
 }
 
-/// `acsg demo`: the paper's example, built in.
-fn demo(run: RunFlags) -> anyhow::Result<()> {
+/// `acsg demo`: the paper's example, built in, within its bounds or those given.
+fn demo(bounds: Option<&str>, run: RunFlags) -> anyhow::Result<()> {
+    let bounds = match bounds {
+        Some(spec) => acsg::task::bounds_from_spec(spec).map_err(|e| UsageError(e.to_string()))?,
+        None => acsg::examples::paper_bounds(),
+    };
     let parts = acsg::examples::l_block_and_box();
     let job = Job {
         names: ["builtin:l_block.off".to_string(), "builtin:box.off".to_string()],
-        bounds: acsg::examples::paper_bounds(),
+        bounds,
         options: Options::default(),
         length: LengthUnit::Mm.symbol().to_string(),
         facet: None,

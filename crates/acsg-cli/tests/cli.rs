@@ -136,7 +136,16 @@ fn bad_bounds_and_task_files_are_refused_clearly() {
         .assert()
         .code(2)
         .stderr(contains("unknown component 'w'"));
+    // The demo's own bounds, when given, are checked the same way, and nothing is
+    // written.
     let dir = tempfile::tempdir().unwrap();
+    acsg()
+        .current_dir(dir.path())
+        .args(["demo", "--bounds=z=5:0"])
+        .assert()
+        .code(2)
+        .stderr(contains("z").and(contains("min")));
+    assert!(!dir.path().join("acsg-demo.graph.json").exists());
     let cases = [
         (
             "fixed = \"a.off\"\nmoving = \"b.off\"\n[bounds]\nx = [1, -1]\ny = [0, 0]\nz = [0, 0]\nrx = [0, 0]\nry = [0, 0]\nrz = [0, 0]\n",

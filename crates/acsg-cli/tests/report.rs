@@ -18,16 +18,21 @@ fn acsg() -> Command {
     Command::cargo_bin("acsg").expect("binary built")
 }
 
-/// The built-in example, generated once for all tests (it takes a minute in the test
-/// build): (folder, graph JSON). The graph is written under its default name, copied
-/// to `demo.json` for the commands that read it.
+/// The built-in parts' bounds for these tests: 20 states, 64 edges and a few undecided
+/// candidates in seconds (the built-in bounds take a minute and a half in the test
+/// build; the generation tests and the Python package's tests run those in full).
+const DEMO_BOUNDS: &str = "--bounds=x=-2:2,y=-2:2,z=0:60,rx=-2:2,rz=-2:2";
+
+/// The built-in example within [`DEMO_BOUNDS`], generated once for all tests: (folder,
+/// graph JSON). The graph is written under its default name, copied to `demo.json` for
+/// the commands that read it.
 fn demo() -> &'static (tempfile::TempDir, Value) {
     static DEMO: OnceLock<(tempfile::TempDir, Value)> = OnceLock::new();
     DEMO.get_or_init(|| {
         let dir = tempfile::tempdir().unwrap();
         acsg()
             .current_dir(dir.path())
-            .args(["demo", "--html", "demo.html", "--no-timings"])
+            .args(["demo", DEMO_BOUNDS, "--html", "demo.html", "--no-timings"])
             .assert()
             .success()
             .stdout(
@@ -455,6 +460,23 @@ fn demo_runs_with_no_files_and_writes_a_consistent_graph() {
         v["fixed"]["vertices"].as_array().unwrap().len(),
     );
     assert_eq!((faces, edges, vertices), (8, 18, 12));
+    // The bounds given, in degrees for the angles; the rest fixed at 0.
+    let bounds = |end: &str| -> Vec<f64> {
+        v["bounds"][end]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let degree = std::f64::consts::PI / 180.0;
+    let (lo, hi) = (bounds("min"), bounds("max"));
+    let expected_lo = [-2.0, -2.0, 0.0, -2.0 * degree, 0.0, -2.0 * degree];
+    let expected_hi = [2.0, 2.0, 60.0, 2.0 * degree, 0.0, 2.0 * degree];
+    for i in 0..6 {
+        assert!((lo[i] - expected_lo[i]).abs() < 1e-12, "{lo:?}");
+        assert!((hi[i] - expected_hi[i]).abs() < 1e-12, "{hi:?}");
+    }
     // Ids index the parts' arrays; each witness has six values and a rigid 4x4 matrix.
     for state in &states[1..] {
         for c in state["contacts"].as_array().unwrap() {
