@@ -747,7 +747,7 @@ struct PairRun {
 /// built-in example keeps all three turns (±18°) in the suite; the holes with all three
 /// are the `full_turns` pairs, run on demand (see `recall_on_demand` for any other), as
 /// is the chamfered hole with two turns (`tilted_and_turned`).
-const PAIRS: [(&str, &str, &str, &str); 11] = [
+const PAIRS: [(&str, &str, &str, &str); 13] = [
     (
         "block_with_chamfered_hole_and_peg_tilted",
         "block_with_chamfered_hole.off",
@@ -813,6 +813,18 @@ const PAIRS: [(&str, &str, &str, &str); 11] = [
         "block_with_hex_hole.off",
         "hex_peg.off",
         "x=-1:1,y=-1:1,z=0:45,rx=-1:1,ry=-1:1",
+    ),
+    (
+        "cube_overhanging_the_l_blocks_floor",
+        "l_block.off",
+        "cube.off",
+        "x=-3:3,y=20:25,z=50:55,rx=-5:5,ry=-5:5,rz=-5:5",
+    ),
+    (
+        "plus_peg_standing_on_the_l_blocks_floor",
+        "l_block.off",
+        "plus_peg.off",
+        "x=-3:3,y=-3:3,z=40:45,rx=-4:4,ry=-4:4,rz=-4:4",
     ),
 ];
 
@@ -1367,6 +1379,22 @@ fn hex_peg_tilted_in_its_hole_oracle_witnesses_survive_every_exclusion_rule() {
 #[ignore = "8 minutes in release (all 160 oracle states found); run on demand"]
 fn hex_peg_tilted_in_its_hole_generator_finds_every_oracle_state() {
     pair_run(11).recall();
+}
+
+/// The cube on the L-block's floor across its outer rim (x = 0), turned up to 5° about
+/// each axis: corners and edges over the rim and beyond it, an overhang no other pair
+/// has.
+#[test]
+fn cube_overhanging_the_l_blocks_floor_passes_every_check() {
+    pair_run(12).check_all();
+}
+
+/// The plus peg standing on the L-block's floor, turned up to 4° about each axis: a
+/// non-convex moving part (concave upright edges) resting on a face by its corners
+/// and edges.
+#[test]
+fn plus_peg_standing_on_the_l_blocks_floor_passes_every_check() {
+    pair_run(13).check_all();
 }
 
 /// Writes every pair's oracle states, and the generated states whose witnesses the
