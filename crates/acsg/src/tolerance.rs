@@ -67,10 +67,13 @@ pub const PARALLEL_SIN: f64 = 1e-9;
 /// The sine of the largest angle at which the reading over the overlap
 /// (docs/concepts.md#tolerances) takes an edge or a face as lying on a face without being
 /// within the tolerance of its plane from end to end, only over the part of it over the
-/// face (an edge lying on a wall and passing over the wall's rim). At a larger angle
-/// that part is a sliver narrower than the separation a witness keeps
-/// (`2 · CONTACT_REL / SEPARATION_REL`).
-pub const FLUSH_TILT: f64 = 1.4e-3;
+/// face (an edge lying on a wall and passing over the wall's rim). A stretch whose two
+/// ends lie within the contact tolerance of the plane, as far apart as the loosest
+/// reading of a witness keeps two contact points (just under the separation), tilts by
+/// at most `2 · CONTACT_REL / (0.99 · SEPARATION_REL)` ≈ 2.02e-3: DOMAIN reads it lying
+/// in the face, and so must this reading. A steeper stretch within the tolerance is
+/// shorter than the separation: a sliver no witness is read by.
+pub const FLUSH_TILT: f64 = 2.1e-3;
 
 /// Element pairs that do not touch are searched for the smallest gap up to this
 /// distance, relative to `L`; farther pairs are reported only as "at least this far".

@@ -510,4 +510,36 @@ mod tests {
         let steeper = placed(tol / 9.0);
         assert!(!on_wall(&scene.state_over_overlap(&steeper, CONTACT_REL)));
     }
+
+    /// The same edge with its foot just under the wall's top rim, 1.1e-6 L below it and
+    /// 0.85 tolerances inside the wall's plane, leaning off the wall so that the rim is
+    /// crossed 0.85 tolerances outside it: its stretch over the wall has two points
+    /// within the tolerance of the plane, more than the loosest reading's separation
+    /// (0.99e-6 L) apart, at a tilt of 1.55e-3. DOMAIN reads such an edge lying in the
+    /// wall, and so does the reading over the overlap (it did not while `FLUSH_TILT` was
+    /// 1.4e-3, which left a band of poses no reading ruled out). Twice as steep, the
+    /// stretch within the tolerance is shorter than the separation: not read.
+    #[test]
+    fn a_stretch_over_the_wall_one_separation_long_lies_in_the_wall_read_over_the_overlap() {
+        let (l_block, box_part) = crate::examples::l_block_and_box();
+        let scene = ContactScene::new(&l_block, &box_part);
+        let tol = CONTACT_REL * scene.scale();
+        let (foot, head) = (DVec3::new(150.0, 10.0, 50.0), DVec3::new(150.0, 10.0, 150.0));
+        let edge = edge_between(&box_part, foot, head);
+        let on_wall = |contacts: &[PrincipalContact]| {
+            contacts
+                .iter()
+                .any(|pc| pc.moving == edge && pc.kind == ContactKind::FaceEdge)
+        };
+        let below_rim = 1.1e-6 * scene.scale();
+        let placed = |slope: f64| {
+            let r = DMat3::from_rotation_y(-slope.atan()) * DMat3::from_rotation_z(0.1);
+            let at = DVec3::new(150.0 + 0.85 * tol, 30.0, 150.0 - below_rim);
+            DAffine3::from_mat3_translation(r, at - r * foot)
+        };
+        let slope = 1.7 * tol / below_rim;
+        assert!(slope > 1.4e-3 && slope < 2.0 * CONTACT_REL / (0.99 * crate::tolerance::SEPARATION_REL));
+        assert!(on_wall(&scene.state_over_overlap(&placed(slope), CONTACT_REL)));
+        assert!(!on_wall(&scene.state_over_overlap(&placed(2.0 * slope), CONTACT_REL)));
+    }
 }
