@@ -475,44 +475,69 @@ mod tests {
     use crate::testing::edge_between;
     use crate::tolerance::CONTACT_REL;
 
-    /// The box's vertical edge on the L-block's wall (x = 150), its foot 40 below the
-    /// wall's top rim (z = 150) and its head 60 above it, yawed 0.1 rad and leaning off
-    /// the wall by `slope`: read from end to end it lies in the wall only upright; read
-    /// over the overlap, also while its stretch over the wall stays within the
-    /// tolerance, however far its head beyond the rim is.
-    #[test]
-    fn an_edge_over_a_walls_rim_lies_in_the_wall_read_over_the_overlap() {
-        let (l_block, box_part) = crate::examples::l_block_and_box();
-        let scene = ContactScene::new(&l_block, &box_part);
-        let tol = CONTACT_REL * scene.scale();
-        let (foot, head) = (DVec3::new(150.0, 10.0, 50.0), DVec3::new(150.0, 10.0, 150.0));
-        let placed = |slope: f64| {
+    /// The box's vertical edge (foot at z = 50, head at z = 150 in the box's frame) by
+    /// the L-block's wall (x = 150): placed yawed 0.1 rad, leaning off the wall by a
+    /// slope, its foot at a given point ([`WallEdge::placed`]); whether a state has it
+    /// in the wall (f-e).
+    struct WallEdge {
+        parts: (Part, Part),
+        edge: ElementId,
+    }
+
+    impl WallEdge {
+        const FOOT: DVec3 = DVec3::new(150.0, 10.0, 50.0);
+
+        fn new() -> WallEdge {
+            let parts = crate::examples::l_block_and_box();
+            let edge = edge_between(&parts.1, Self::FOOT, DVec3::new(150.0, 10.0, 150.0));
+            WallEdge { parts, edge }
+        }
+
+        /// The scene and the contact tolerance.
+        fn scene(&self) -> (ContactScene<'_>, f64) {
+            let scene = ContactScene::new(&self.parts.0, &self.parts.1);
+            let tol = CONTACT_REL * scene.scale();
+            (scene, tol)
+        }
+
+        fn placed(slope: f64, foot_at: DVec3) -> DAffine3 {
             let r = DMat3::from_rotation_y(-slope.atan()) * DMat3::from_rotation_z(0.1);
-            DAffine3::from_mat3_translation(r, DVec3::new(150.0, 30.0, 110.0) - r * foot)
-        };
-        let kinds = |contacts: &[PrincipalContact]| contacts.iter().map(|pc| pc.kind).collect::<Vec<_>>();
-        let edge = edge_between(&box_part, foot, head);
-        let on_wall = |contacts: &[PrincipalContact]| {
+            DAffine3::from_mat3_translation(r, foot_at - r * Self::FOOT)
+        }
+
+        fn on_wall(&self, contacts: &[PrincipalContact]) -> bool {
             contacts
                 .iter()
-                .any(|pc| pc.moving == edge && pc.kind == ContactKind::FaceEdge)
-        };
+                .any(|pc| pc.moving == self.edge && pc.kind == ContactKind::FaceEdge)
+        }
+    }
+
+    /// The wall edge's foot 40 below the wall's top rim (z = 150) and its head 60 above
+    /// it: read from end to end it lies in the wall only upright; read over the overlap,
+    /// also while its stretch over the wall stays within the tolerance, however far its
+    /// head beyond the rim is.
+    #[test]
+    fn an_edge_over_a_walls_rim_lies_in_the_wall_read_over_the_overlap() {
+        let wall = WallEdge::new();
+        let (scene, tol) = wall.scene();
+        let placed = |slope: f64| WallEdge::placed(slope, DVec3::new(150.0, 30.0, 110.0));
+        let kinds = |contacts: &[PrincipalContact]| contacts.iter().map(|pc| pc.kind).collect::<Vec<_>>();
         // Upright: both readings put the edge in the wall.
         let upright = placed(0.0);
-        assert!(on_wall(&scene.state(&upright, CONTACT_REL).contacts));
-        assert!(on_wall(&scene.state_over_overlap(&upright, CONTACT_REL)));
+        assert!(wall.on_wall(&scene.state(&upright, CONTACT_REL).contacts));
+        assert!(wall.on_wall(&scene.state_over_overlap(&upright, CONTACT_REL)));
         // Leaning by tolerance/90 per unit: the head, 100 up, is beyond the tolerance.
         let leaning = placed(tol / 90.0);
         let ends = scene.state(&leaning, CONTACT_REL).contacts;
-        assert!(!on_wall(&ends), "{:?}", kinds(&ends));
-        assert!(on_wall(&scene.state_over_overlap(&leaning, CONTACT_REL)));
+        assert!(!wall.on_wall(&ends), "{:?}", kinds(&ends));
+        assert!(wall.on_wall(&scene.state_over_overlap(&leaning, CONTACT_REL)));
         // Ten times more, the stretch over the wall leaves the plane: no reading has it.
         let steeper = placed(tol / 9.0);
-        assert!(!on_wall(&scene.state_over_overlap(&steeper, CONTACT_REL)));
+        assert!(!wall.on_wall(&scene.state_over_overlap(&steeper, CONTACT_REL)));
     }
 
-    /// The same edge with its foot just under the wall's top rim, 1.1e-6 L below it and
-    /// 0.85 tolerances inside the wall's plane, leaning off the wall so that the rim is
+    /// The wall edge's foot just under the wall's top rim, 1.1e-6 L below it and 0.85
+    /// tolerances inside the wall's plane, leaning off the wall so that the rim is
     /// crossed 0.85 tolerances outside it: its stretch over the wall has two points
     /// within the tolerance of the plane, more than the loosest reading's separation
     /// (0.99e-6 L) apart, at a tilt of 1.55e-3. DOMAIN reads such an edge lying in the
@@ -521,25 +546,14 @@ mod tests {
     /// stretch within the tolerance is shorter than the separation: not read.
     #[test]
     fn a_stretch_over_the_wall_one_separation_long_lies_in_the_wall_read_over_the_overlap() {
-        let (l_block, box_part) = crate::examples::l_block_and_box();
-        let scene = ContactScene::new(&l_block, &box_part);
-        let tol = CONTACT_REL * scene.scale();
-        let (foot, head) = (DVec3::new(150.0, 10.0, 50.0), DVec3::new(150.0, 10.0, 150.0));
-        let edge = edge_between(&box_part, foot, head);
-        let on_wall = |contacts: &[PrincipalContact]| {
-            contacts
-                .iter()
-                .any(|pc| pc.moving == edge && pc.kind == ContactKind::FaceEdge)
-        };
+        let wall = WallEdge::new();
+        let (scene, tol) = wall.scene();
         let below_rim = 1.1e-6 * scene.scale();
-        let placed = |slope: f64| {
-            let r = DMat3::from_rotation_y(-slope.atan()) * DMat3::from_rotation_z(0.1);
-            let at = DVec3::new(150.0 + 0.85 * tol, 30.0, 150.0 - below_rim);
-            DAffine3::from_mat3_translation(r, at - r * foot)
-        };
+        let foot_at = DVec3::new(150.0 + 0.85 * tol, 30.0, 150.0 - below_rim);
         let slope = 1.7 * tol / below_rim;
         assert!(slope > 1.4e-3 && slope < 2.0 * CONTACT_REL / (0.99 * crate::tolerance::SEPARATION_REL));
-        assert!(on_wall(&scene.state_over_overlap(&placed(slope), CONTACT_REL)));
-        assert!(!on_wall(&scene.state_over_overlap(&placed(2.0 * slope), CONTACT_REL)));
+        let read = |slope: f64| wall.on_wall(&scene.state_over_overlap(&WallEdge::placed(slope, foot_at), CONTACT_REL));
+        assert!(read(slope));
+        assert!(!read(2.0 * slope));
     }
 }
