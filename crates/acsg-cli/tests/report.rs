@@ -20,7 +20,7 @@ fn acsg() -> Command {
 
 /// The built-in parts' bounds for these tests: 20 states, 64 edges and a few undecided
 /// candidates in seconds (the built-in bounds take a minute and a half in the test
-/// build; the generation tests and the Python package's tests run those in full).
+/// build; the generation tests run those in full).
 const DEMO_BOUNDS: &str = "--bounds=x=-2:2,y=-2:2,z=0:60,rx=-2:2,rz=-2:2";
 
 /// The built-in example within [`DEMO_BOUNDS`], generated once for all tests: (folder,
@@ -460,7 +460,8 @@ fn demo_runs_with_no_files_and_writes_a_consistent_graph() {
         v["fixed"]["vertices"].as_array().unwrap().len(),
     );
     assert_eq!((faces, edges, vertices), (8, 18, 12));
-    // The bounds given, in degrees for the angles; the rest fixed at 0.
+    // The bounds given (angles in degrees on the command line, in radians in the
+    // JSON); the components not given fixed at 0.
     let bounds = |end: &str| -> Vec<f64> {
         v["bounds"][end]
             .as_array()
