@@ -70,7 +70,8 @@ pub const PARALLEL_SIN: f64 = 1e-9;
 /// face (an edge lying on a wall and passing over the wall's rim). A stretch whose two
 /// ends lie within the contact tolerance of the plane, as far apart as the loosest
 /// reading of a witness keeps two contact points (just under the separation), tilts by
-/// at most `2 · CONTACT_REL / (0.99 · SEPARATION_REL)` ≈ 2.02e-3: DOMAIN reads it lying
+/// at most `2 · CONTACT_REL / LOOSE_CONTACT_REL` ≈ 2.02e-3 (the loose reading is at
+/// `0.99 · SEPARATION_REL`): DOMAIN reads it lying
 /// in the face, and so must this reading. A steeper stretch within the tolerance is
 /// shorter than the separation: a sliver no witness is read by.
 pub const FLUSH_TILT: f64 = 2.1e-3;
