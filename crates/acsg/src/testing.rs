@@ -44,9 +44,12 @@ pub(crate) fn contact(
     }
 }
 
-/// A state of the built-in example (sorted) with its witness: the box on the L-block's
-/// step against its wall, its top edge turned 7.7e-5 rad and crossing the wall's top
-/// edge 2.8e-3 mm from that edge's end, the wall edge lying along the box's face there.
+/// A contact state of the built-in example (sorted) and a pose the contact module reads
+/// it at, from end to end: the box on the L-block's step against its wall, its top edge
+/// turned 7.7e-5 rad and crossing the wall's top edge 2.8e-3 mm from that edge's end,
+/// the wall edge lying along the box's face there. No witness: the box's top edge has
+/// its end (on the wall, with the edge e11) and the crossing on the wall's plane, so in
+/// exact geometry it lies on the wall (`feasibility::two_points`).
 pub(crate) fn grazing_crossing() -> (Vec<crate::contact::PrincipalContact>, [f64; 6]) {
     use crate::contact::ContactKind as K;
     let mut state = vec![

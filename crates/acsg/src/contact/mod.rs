@@ -560,4 +560,45 @@ mod tests {
         assert!(read(slope));
         assert!(!read(2.0 * slope));
     }
+
+    /// A witness the search found at a higher effort: the box's corner v6 on the
+    /// L-block's concave corner v6, the L-block's floor edge e7 lying in the box's face
+    /// f2, and the box's edge e6 from that corner crossing e7 3.4e-4 mm away at an
+    /// angle of 1.8e-4 rad, because the corners are 5e-8 mm apart. Read from end to end,
+    /// the corners' contact stays principal (the edge's stretch in the face stops at the
+    /// crossing); read over the overlap, e6 has its end and the crossing on e7's line,
+    /// so it runs along e7 (e-e-t) and the readings disagree: no witness. In exact
+    /// geometry the corners coincide, the crossing is the corner, and the state is the
+    /// edge in the face alone.
+    #[test]
+    fn an_edge_crossing_another_near_its_end_runs_along_it_read_over_the_overlap() {
+        let (block, bx) = crate::examples::l_block_and_box();
+        let scene = ContactScene::new(&block, &bx);
+        let pose = crate::pose::Pose::from_array([
+            -0.0017440112563633647,
+            -0.7649061686836358,
+            28.883407230713246,
+            -0.30053863035103057,
+            -5.736010645374471e-06,
+            -1.8509079748124447e-05,
+        ]);
+        let placed = pose.to_affine(&DAffine3::IDENTITY);
+        let id = |s: &str| -> ElementId { s.parse().unwrap() };
+        let ends = scene.state(&placed, CONTACT_REL).contacts;
+        let labels = |contacts: &[PrincipalContact]| {
+            contacts
+                .iter()
+                .map(|pc| format!("{} {} {}", pc.kind.label(), pc.fixed, pc.moving))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(labels(&ends), ["e-f e7 f2", "v-v v6 v6"]);
+        let overlap = scene.state_over_overlap(&placed, CONTACT_REL);
+        assert!(
+            overlap
+                .iter()
+                .any(|pc| (pc.fixed, pc.moving, pc.kind) == (id("e7"), id("e6"), ContactKind::EdgeEdgeTouch)),
+            "{:?}",
+            labels(&overlap)
+        );
+    }
 }

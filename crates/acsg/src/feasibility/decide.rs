@@ -53,6 +53,10 @@ pub enum Rule {
     /// convex face at that corner and on the same plane: the face would lie flush or
     /// cross the plane at the corner (`feasibility::hinge`); a last proof.
     FaceHinge,
+    /// Two contacts hold two points of one edge on a face's plane, and no contact lists
+    /// the edge on that face (`feasibility::two_points`): in exact geometry the edge
+    /// would lie on the face; a last proof, the same test the witness check makes.
+    EdgeOnTwoPoints,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,
     /// Interval constraint propagation of the contacts and of non-penetration of
@@ -274,6 +278,9 @@ impl Problem<'_> {
     ) -> Result<Conditions, Rule> {
         if !self.rigidly_compatible(target) {
             return Err(Rule::RigidDistance);
+        }
+        if super::two_points::edge_on_two_points(self.fixed, self.moving, target) {
+            return Err(Rule::EdgeOnTwoPoints);
         }
         let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {

@@ -35,6 +35,7 @@ mod slices;
 mod slide;
 mod solver;
 mod turns;
+mod two_points;
 
 use glam::{DAffine3, DVec3};
 
@@ -511,49 +512,9 @@ impl<'a> Problem<'a> {
     fn is_clean(&self, report: &ContactReport, pose: &Pose) -> bool {
         report.penetration == 0.0
             && report.min_gap.is_none_or(|g| g >= self.separation())
-            && !self.edge_on_two_points(&report.contacts)
+            && !two_points::edge_on_two_points(self.fixed, self.moving, &report.contacts)
             && self.scene.state(&self.placement(pose), LOOSE_CONTACT_REL).contacts == report.contacts
             && self.scene.state_over_overlap(&self.placement(pose), CONTACT_REL) == report.contacts
-    }
-
-    /// Whether two point contacts of a state put two points of one edge on one face's
-    /// closure: then the edge lies in the face's plane, and docs/concepts.md#tolerances reads
-    /// the edge in the face (e-f or f-e), not two point contacts, so no witness shows
-    /// the state robustly (a vertex on a face and its edge crossing the face's edge,
-    /// say).
-    fn edge_on_two_points(&self, contacts: &[PrincipalContact]) -> bool {
-        let point = |pc: &PrincipalContact| {
-            use ContactKind as K;
-            matches!(
-                pc.kind,
-                K::FaceVertex | K::VertexFace | K::EdgeEdge | K::EdgeVertex | K::VertexEdge | K::VertexVertex
-            )
-        };
-        let points: Vec<&PrincipalContact> = contacts.iter().filter(|pc| point(pc)).collect();
-        // On `part`, an edge holding both elements (itself or its ends, two distinct
-        // points), and on `other`, a face holding both others.
-        let lies = |part: &Part, x: ElementId, y: ElementId, other: &Part, u: ElementId, w: ElementId| {
-            let edges = |e: ElementId| -> Vec<crate::model::EdgeId> {
-                match e {
-                    ElementId::Edge(x) => vec![x],
-                    ElementId::Vertex(v) => part.vertex(v).edges.clone(),
-                    ElementId::Face(_) => Vec::new(),
-                }
-            };
-            let distinct = x != y || matches!(x, ElementId::Edge(_));
-            let shared_edge = edges(x).iter().any(|e| edges(y).contains(e));
-            let shared_face = other
-                .faces_around(u)
-                .iter()
-                .any(|&f| other.in_closure(ElementId::Face(f), w));
-            distinct && shared_edge && shared_face
-        };
-        points.iter().enumerate().any(|(i, c1)| {
-            points[i + 1..].iter().any(|c2| {
-                lies(self.fixed, c1.fixed, c2.fixed, self.moving, c1.moving, c2.moving)
-                    || lies(self.moving, c1.moving, c2.moving, self.fixed, c1.fixed, c2.fixed)
-            })
-        })
     }
 
     fn separation(&self) -> f64 {

@@ -611,19 +611,25 @@ mod tests {
     use crate::contact::ContactKind as K;
 
     #[test]
-    fn a_grazing_crossing_over_a_wall_is_not_excluded_by_the_wedge() {
+    fn a_grazing_crossing_over_a_wall_is_no_witness_and_the_wedge_stands_far_from_parallel() {
         // The box stands on the L-block's step against its wall; its top edge, turned
         // 7.7e-5 rad, crosses the wall's top edge 2.8e-3 mm from its end, lying 2e-7
-        // mm inside the wall there (within the tolerance). Both parts lie below the
-        // plane through the two edges, yet the wall's face separates them: the contact
-        // module reads the state at this pose, so no rotation rule may exclude it.
+        // mm inside the wall there (within the tolerance). The contact module reads the
+        // state there from end to end, but the box's top edge has two points on the
+        // wall's plane: no witness, and the last proofs rule the state out on that.
         let (a, b) = crate::examples::l_block_and_box();
         let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
         let (target, x) = crate::testing::grazing_crossing();
-        assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(target.clone()));
-        let at = Bounds::try_new(x, x).unwrap();
-        assert!(problem.turns(&target).may_hold(&at));
-        assert!(problem.strict_turns(&target).may_hold(&at));
+        let placed = problem.placement(&Pose::from_array(x));
+        assert_eq!(
+            problem.scene().state(&placed, crate::tolerance::CONTACT_REL).contacts,
+            target
+        );
+        assert_eq!(problem.clean_state(&Pose::from_array(x)), None);
+        assert_eq!(
+            problem.last_exclusion(&target, problem.bounds()),
+            Some(crate::feasibility::Rule::EdgeOnTwoPoints)
+        );
         // Turned 0.1 rad instead, the edges are far from parallel and the wedge rule
         // stands: both parts below the plane through the edges cannot be.
         let mut far = x;
@@ -667,13 +673,14 @@ mod tests {
     }
 
     #[test]
-    fn a_crossing_whose_end_sits_on_the_other_edges_end_is_not_excluded_by_the_wedge() {
+    fn a_crossing_whose_end_sits_on_the_other_edges_end_is_no_witness() {
         // The peg's corner v0 in the chamfered hole's corner v7, its bottom edge e2
         // lying on the chamfer f6 (so the two corners are held together), and its
         // other bottom edge e1, 1.7e-4 rad off the hole's edge e16, crossing it 6e-4 mm
-        // from v0. The end v0 is within 1.1e-7 mm of e16 (at e16's end v7), so the
-        // edges have not drawn the separation apart there: the contact module reads
-        // the state at this pose, and the wedge rule must leave it.
+        // from v0. The end v0 is within 1.1e-7 mm of e16 (at e16's end v7): e1 has two
+        // points on e16's line. The contact module
+        // reads the state from end to end; over the overlap, e1 runs along e16, so the
+        // pose is no witness (in exact geometry e1 would lie along e16).
         let (hole, peg) = (
             crate::testing::fixture("block_with_chamfered_hole.off"),
             crate::testing::fixture("peg.off"),
@@ -694,10 +701,17 @@ mod tests {
             -0.00017419320272330494,
             -0.00017419320536610087,
         ];
-        assert_eq!(problem.clean_state(&Pose::from_array(x)), Some(target.clone()));
-        let at = Bounds::try_new(x, x).unwrap();
-        assert!(problem.turns(&target).may_hold(&at));
-        assert!(problem.strict_turns(&target).may_hold(&at));
+        let placed = problem.placement(&Pose::from_array(x));
+        let tol = crate::tolerance::CONTACT_REL;
+        assert_eq!(problem.scene().state(&placed, tol).contacts, target);
+        assert!(
+            problem
+                .scene()
+                .state_over_overlap(&placed, tol)
+                .iter()
+                .any(|pc| pc.kind == K::EdgeEdgeTouch)
+        );
+        assert_eq!(problem.clean_state(&Pose::from_array(x)), None);
     }
 
     #[test]
