@@ -55,7 +55,8 @@ pub enum Rule {
     FaceHinge,
     /// Two contacts hold two points of one edge on a face's plane, and no contact lists
     /// the edge on that face (`feasibility::two_points`): in exact geometry the edge
-    /// would lie on the face; a last proof, the same test the witness check makes.
+    /// would lie on the face. The witness check makes the same test, so the decisions
+    /// make it before any search.
     EdgeOnTwoPoints,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,

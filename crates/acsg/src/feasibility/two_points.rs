@@ -1,5 +1,5 @@
 //! An edge with two points held on a face's plane lies in that plane (DOMAIN §7): a
-//! combinatorial test of a state's contacts that the witness check and the last proofs
+//! combinatorial test of a state's contacts that the witness check and the decisions
 //! share, so that what one rejects the other proves infeasible.
 //!
 //! A point of one part is *held* on a face `F` of the other when a contact puts it
