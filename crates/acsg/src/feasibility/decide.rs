@@ -58,6 +58,10 @@ pub enum Rule {
     /// would lie on the face. The witness check makes the same test, so the decisions
     /// make it before any search.
     EdgeOnTwoPoints,
+    /// A crossing whose edge stays parallel to a face at the other edge under every
+    /// rotation of the bounds (`feasibility::parallel`): the edge lies in that face
+    /// wherever it crosses, which implies the crossing. Tested before any search.
+    CrossingInAFace,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,
     /// Interval constraint propagation of the contacts and of non-penetration of
@@ -282,6 +286,15 @@ impl Problem<'_> {
         }
         if super::two_points::edge_on_two_points(self.fixed, self.moving, target) {
             return Err(Rule::EdgeOnTwoPoints);
+        }
+        if super::parallel::crossing_held_in_a_face(
+            self.fixed,
+            self.moving,
+            &self.bounds,
+            self.assembled.matrix3,
+            target,
+        ) {
+            return Err(Rule::CrossingInAFace);
         }
         let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {

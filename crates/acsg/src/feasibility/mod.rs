@@ -29,6 +29,7 @@ mod hinge;
 mod interval;
 mod lp;
 mod normals;
+mod parallel;
 mod prover;
 mod residual;
 mod slices;
