@@ -18,8 +18,8 @@ fn acsg() -> Command {
     Command::cargo_bin("acsg").expect("binary built")
 }
 
-/// The built-in parts' bounds for these tests: 20 states, 64 edges and a few undecided
-/// candidates in seconds (the built-in bounds take a minute and a half in the test
+/// The built-in parts' bounds for these tests: 19 states, 58 edges and an undecided
+/// candidate in seconds (the built-in bounds take a minute and a half in the test
 /// build; the generation tests run those in full).
 const DEMO_BOUNDS: &str = "--bounds=x=-2:2,y=-2:2,z=0:60,rx=-2:2,rz=-2:2";
 

@@ -1,7 +1,7 @@
 """The issue's acceptance test: trimesh loads the L-block and the box, acsg generates,
 and networkx gets the same states and edges as `acsg demo` within the same bounds.
 
-The bounds are narrower than the demo's own (20 states, a few undecided candidates, in
+The bounds are narrower than the demo's own (19 states, an undecided candidate, in
 seconds): the built-in bounds take a minute and a half for each of the two runs in the
 test build, and the Rust generation tests run them in full."""
 
