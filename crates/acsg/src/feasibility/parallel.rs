@@ -44,6 +44,10 @@ pub(crate) fn crossing_held_in_a_face(
     assembled: DMat3,
     target: &[PrincipalContact],
 ) -> bool {
+    // Most candidates have no crossing: no rotation is sampled for them.
+    if !target.iter().any(|pc| pc.kind == ContactKind::EdgeEdge) {
+        return false;
+    }
     let rotations = sample_rotations(bounds, assembled);
     let (centre, reach) = centre_and_reach(bounds, assembled);
     target.iter().any(|pc| {
