@@ -116,13 +116,24 @@ fn contacts(paths: [&Path; 2], pose: &Pose, assembled: &Pose, units: &UnitsFlag,
     let ((fixed, moving), length) = load_pair(paths, units.units, units.facet()?)?;
     let g = assembled.to_affine(&DAffine3::IDENTITY);
     let placement = pose.to_affine(&g);
-    let report = acsg::contact::ContactScene::new(&fixed, &moving).evaluate(&placement, shown.tol);
+    let scene = acsg::contact::ContactScene::new(&fixed, &moving);
+    let report = scene.evaluate(&placement, shown.tol);
+    // Robustness is defined at the contact tolerance, whatever --tol shows.
+    let at_contact_tolerance;
+    let read = if shown.tol == acsg::tolerance::CONTACT_REL {
+        &report
+    } else {
+        at_contact_tolerance = scene.evaluate(&placement, acsg::tolerance::CONTACT_REL);
+        &at_contact_tolerance
+    };
+    let flaw = acsg::feasibility::witness_flaw(&scene, &placement, read);
     let at = ContactsAtPose {
         fixed: &fixed,
         moving: &moving,
         pose,
         assembled: &g,
         report: &report,
+        flaw: flaw.as_ref(),
     };
     print_contacts(&at, &Shown { length, ..shown })
 }

@@ -4,6 +4,7 @@
 use std::io::Write;
 
 use acsg::contact::{ContactRecord, ContactReport};
+use acsg::feasibility::WitnessFlaw;
 use acsg::graph::{Graph, Stats, Strategy};
 use acsg::model::{ElementId, Inspection, Part, PartElements};
 use acsg::pose::{Bounds, Pose};
@@ -248,6 +249,12 @@ struct ContactsDocument<'a> {
     contacts: Vec<ContactRecord>,
     penetration: f64,
     min_gap: Option<f64>,
+    /// Whether the pose is a robust witness of the state read at the contact tolerance
+    /// (bounds aside): every checker whose tolerance lies between 1e-9 L and 1e-6 L
+    /// reads that state.
+    robust: bool,
+    /// Why not, in words (`null` when robust).
+    not_robust_because: Option<String>,
     parts: PartsDocument<'a>,
 }
 
@@ -293,6 +300,46 @@ pub(crate) struct ContactsAtPose<'a> {
     /// The assembled pose G.
     pub(crate) assembled: &'a DAffine3,
     pub(crate) report: &'a ContactReport,
+    /// Why the pose is no robust witness of the state read at the contact tolerance.
+    pub(crate) flaw: Option<&'a WitnessFlaw>,
+}
+
+/// A witness flaw in words.
+fn flaw_text(flaw: &WitnessFlaw, fixed: &Part, moving: &Part) -> String {
+    let state = |contacts: &[acsg::contact::PrincipalContact]| {
+        let list: Vec<String> = contacts
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} {} {}",
+                    ContactRecord::of(c, fixed, moving).kind.label(),
+                    c.fixed,
+                    c.moving
+                )
+            })
+            .collect();
+        if list.is_empty() {
+            "no contact".to_owned()
+        } else {
+            list.join(", ")
+        }
+    };
+    match flaw {
+        WitnessFlaw::Penetration(depth) => format!("the parts penetrate by {depth}"),
+        WitnessFlaw::TooClose(gap) => {
+            format!("two elements that do not touch are {gap} apart, closer than the separation tolerance (1e-6 L)")
+        }
+        WitnessFlaw::EdgeOnTwoPoints => {
+            "two contacts hold two points of one edge on a face's plane that no contact lists the edge on".to_owned()
+        }
+        WitnessFlaw::LooseReading(contacts) => {
+            format!(
+                "read with a tolerance just under 1e-6 L the state is {}",
+                state(contacts)
+            )
+        }
+        WitnessFlaw::OverlapReading(contacts) => format!("read over the overlap the state is {}", state(contacts)),
+    }
 }
 
 /// Prints the contacts at one pose, their elements' coordinates, the penetration and
@@ -304,6 +351,7 @@ pub(crate) fn print_contacts(at: &ContactsAtPose<'_>, shown: &Shown) -> anyhow::
         pose,
         assembled,
         report,
+        flaw,
     } = *at;
     let records: Vec<ContactRecord> = report
         .contacts
@@ -357,6 +405,13 @@ pub(crate) fn print_contacts(at: &ContactsAtPose<'_>, shown: &Shown) -> anyhow::
             acsg::tolerance::GAP_SEARCH_REL * acsg::model::length_scale(fixed, moving)
         )?,
     }
+    match flaw {
+        None => writeln!(
+            out,
+            "witness      robust: every checker with a tolerance between 1e-9 L and 1e-6 L reads this state"
+        )?,
+        Some(flaw) => writeln!(out, "witness      not robust: {}", flaw_text(flaw, fixed, moving))?,
+    }
     Ok(())
 }
 
@@ -374,6 +429,8 @@ fn print_contacts_json(at: &ContactsAtPose<'_>, records: Vec<ContactRecord>, sho
         contacts: records,
         penetration: at.report.penetration,
         min_gap: at.report.min_gap,
+        robust: at.flaw.is_none(),
+        not_robust_because: at.flaw.map(|f| flaw_text(f, at.fixed, at.moving)),
         parts: PartsDocument {
             fixed: &PartElements::of(at.fixed),
             moving: &PartElements::of(at.moving),

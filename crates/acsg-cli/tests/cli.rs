@@ -370,6 +370,53 @@ fn contacts_text_reports_penetration_and_gap() {
 }
 
 #[test]
+fn contacts_says_whether_the_pose_is_a_robust_witness_and_why_not() {
+    // The box in the L-block's corner, face on face twice: robust.
+    acsg()
+        .args(["contacts", "--pose", "0,0,0,0,0,0"])
+        .arg(fixture("l_block.off"))
+        .arg(fixture("box.off"))
+        .assert()
+        .success()
+        .stdout(contains("witness      robust"));
+    // Pushed 1 into the wall: not robust, and the reason says so.
+    acsg()
+        .args(["contacts", "--pose", "1,0,5,0,0,0"])
+        .arg(fixture("l_block.off"))
+        .arg(fixture("box.off"))
+        .assert()
+        .success()
+        .stdout(contains("witness      not robust: the parts penetrate by 1"));
+    // The box's corner 5e-8 mm from the L-block's concave corner, its edge from there
+    // crossing the floor's back edge 3.4e-4 mm away at 1.8e-4 rad: read from end to
+    // end, an edge in a face and the corners together; read over the overlap, the two
+    // edges run together (DOMAIN §7's reading of an edge with two points on a line).
+    let band = "--pose=-0.0017440112563633647,-0.7649061686836358,28.883407230713246,\
+                -0.30053863035103057,-5.736010645374471e-06,-1.8509079748124447e-05";
+    let out = acsg()
+        .args(["contacts", "--json", "--radians", band])
+        .arg(fixture("l_block.off"))
+        .arg(fixture("box.off"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let kinds: Vec<&str> = v["contacts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["type"].as_str().unwrap())
+        .collect();
+    assert_eq!(kinds, ["e-f", "v-v"]);
+    assert_eq!(v["robust"], false);
+    let why = v["not_robust_because"].as_str().unwrap();
+    assert!(
+        why.starts_with("read over the overlap") && why.contains("e-e-t e7 e6"),
+        "{why}"
+    );
+}
+
+#[test]
 fn bad_poses_and_tolerances_are_usage_errors() {
     let run = |args: &[&str]| {
         acsg()

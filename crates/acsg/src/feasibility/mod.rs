@@ -509,13 +509,9 @@ impl<'a> Problem<'a> {
 
     /// No penetration, every pair that does not touch at least the separation
     /// tolerance apart, and the same state at the loose tolerance and read over the
-    /// overlap (docs/concepts.md#tolerances).
+    /// overlap (docs/concepts.md#tolerances): [`witness_flaw`] finds none.
     fn is_clean(&self, report: &ContactReport, pose: &Pose) -> bool {
-        report.penetration == 0.0
-            && report.min_gap.is_none_or(|g| g >= self.separation())
-            && !two_points::edge_on_two_points(self.fixed, self.moving, &report.contacts)
-            && self.scene.state(&self.placement(pose), LOOSE_CONTACT_REL).contacts == report.contacts
-            && self.scene.state_over_overlap(&self.placement(pose), CONTACT_REL) == report.contacts
+        witness_flaw(&self.scene, &self.placement(pose), report).is_none()
     }
 
     fn separation(&self) -> f64 {
@@ -924,6 +920,73 @@ pub(crate) const PRIMITIVE_STARTS: usize = 17;
 /// Whether `big` holds every contact of `small` and more (both sorted).
 fn is_strict_superset(big: &[PrincipalContact], small: &[PrincipalContact]) -> bool {
     big.len() > small.len() && small.iter().all(|pc| big.binary_search(pc).is_ok())
+}
+
+/// Why a pose is no robust witness of the state read there, bounds aside
+/// (docs/concepts.md#tolerances): the first of the witness check's tests that fails.
+#[derive(Clone, Debug, PartialEq)]
+pub enum WitnessFlaw {
+    /// The parts penetrate by this much (more than the contact tolerance).
+    Penetration(f64),
+    /// Two elements that do not touch are this far apart, closer than the separation
+    /// tolerance.
+    TooClose(f64),
+    /// Two contacts hold two points of one edge on a face's plane, and no contact lists
+    /// the edge on that face: in exact geometry the edge lies on the face.
+    EdgeOnTwoPoints,
+    /// Read with a touching tolerance just under the separation, the state is this one.
+    LooseReading(Vec<PrincipalContact>),
+    /// Read over the overlap (an edge or face lying on a face where they overlap, two
+    /// edges with two points on one line running together), the state is this one.
+    OverlapReading(Vec<PrincipalContact>),
+}
+
+/// The first reason the pose `moving_to_fixed` is no robust witness of the state
+/// `report` reads there (read at [`CONTACT_REL`], with the smallest gap searched at
+/// least twice the separation tolerance far), or `None` when every checker whose
+/// touching tolerance lies between 1e-9 L and 1e-6 L reads that state. The bounds are
+/// not checked. The same test as every reported witness passes.
+///
+/// ```
+/// use acsg::contact::ContactScene;
+/// use acsg::feasibility::witness_flaw;
+/// use acsg::pose::Pose;
+/// use glam::DAffine3;
+///
+/// let (slab, cube) = acsg::examples::cube_and_slab();
+/// let scene = ContactScene::new(&slab, &cube);
+/// // The cube flat on the slab: face on face, robust.
+/// let flat = Pose::from_array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0]).to_affine(&DAffine3::IDENTITY);
+/// let report = scene.evaluate(&flat, acsg::tolerance::CONTACT_REL);
+/// assert_eq!(witness_flaw(&scene, &flat, &report), None);
+/// // Pressed 1e-3 into the slab: no witness.
+/// let pressed = Pose::from_array([0.0, 0.0, -1e-3, 0.0, 0.0, 0.0]).to_affine(&DAffine3::IDENTITY);
+/// let report = scene.evaluate(&pressed, acsg::tolerance::CONTACT_REL);
+/// assert!(matches!(witness_flaw(&scene, &pressed, &report), Some(acsg::feasibility::WitnessFlaw::Penetration(_))));
+/// ```
+#[must_use]
+pub fn witness_flaw(
+    scene: &ContactScene<'_>,
+    moving_to_fixed: &DAffine3,
+    report: &ContactReport,
+) -> Option<WitnessFlaw> {
+    let (fixed, moving) = scene.parts();
+    let separation = scaled(SEPARATION_REL, scene.scale());
+    if report.penetration > 0.0 {
+        return Some(WitnessFlaw::Penetration(report.penetration));
+    }
+    if let Some(gap) = report.min_gap.filter(|&g| g < separation) {
+        return Some(WitnessFlaw::TooClose(gap));
+    }
+    if two_points::edge_on_two_points(fixed, moving, &report.contacts) {
+        return Some(WitnessFlaw::EdgeOnTwoPoints);
+    }
+    let loose = scene.state(moving_to_fixed, LOOSE_CONTACT_REL).contacts;
+    if loose != report.contacts {
+        return Some(WitnessFlaw::LooseReading(loose));
+    }
+    let overlap = scene.state_over_overlap(moving_to_fixed, CONTACT_REL);
+    (overlap != report.contacts).then_some(WitnessFlaw::OverlapReading(overlap))
 }
 
 /// Whether a contact is of a primitive kind (f-v, v-f or e-e) between elements of the
