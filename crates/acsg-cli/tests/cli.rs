@@ -352,39 +352,33 @@ fn contacts_json_lists_the_two_face_contacts_of_the_assembled_pose() {
 #[test]
 fn contacts_text_reports_penetration_and_gap() {
     // Pushed 1 into the wall, lifted 5 off the floor.
-    acsg()
-        .args(["contacts", "--pose", "1,0,5,0,0,0"])
-        .arg(fixture("l_block.off"))
-        .arg(fixture("box.off"))
-        .assert()
+    box_on_the_l_block(&["--pose", "1,0,5,0,0,0"])
         .success()
         .stdout(contains("penetration  1").and(contains("the parts penetrate")));
     // Degrees are accepted; 5 away from the wall, 2 off the floor: nearest gap 2.
+    box_on_the_l_block(&["--degrees", "--pose=-5,0,2,0,0,0"])
+        .success()
+        .stdout(contains("contacts     0").and(contains("min gap      2 ")));
+}
+
+/// `acsg contacts` of the box against the L-block with `args`.
+fn box_on_the_l_block(args: &[&str]) -> assert_cmd::assert::Assert {
     acsg()
-        .args(["contacts", "--degrees", "--pose=-5,0,2,0,0,0"])
+        .arg("contacts")
+        .args(args)
         .arg(fixture("l_block.off"))
         .arg(fixture("box.off"))
         .assert()
-        .success()
-        .stdout(contains("contacts     0").and(contains("min gap      2 ")));
 }
 
 #[test]
 fn contacts_says_whether_the_pose_is_a_robust_witness_and_why_not() {
     // The box in the L-block's corner, face on face twice: robust.
-    acsg()
-        .args(["contacts", "--pose", "0,0,0,0,0,0"])
-        .arg(fixture("l_block.off"))
-        .arg(fixture("box.off"))
-        .assert()
+    box_on_the_l_block(&["--pose", "0,0,0,0,0,0"])
         .success()
         .stdout(contains("witness      robust"));
     // Pushed 1 into the wall: not robust, and the reason says so.
-    acsg()
-        .args(["contacts", "--pose", "1,0,5,0,0,0"])
-        .arg(fixture("l_block.off"))
-        .arg(fixture("box.off"))
-        .assert()
+    box_on_the_l_block(&["--pose", "1,0,5,0,0,0"])
         .success()
         .stdout(contains("witness      not robust: the parts penetrate by 1"));
     // The box's corner 5e-8 mm from the L-block's concave corner, its edge from there
