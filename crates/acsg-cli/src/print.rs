@@ -305,23 +305,12 @@ pub(crate) struct ContactsAtPose<'a> {
 }
 
 /// A witness flaw in words.
-fn flaw_text(flaw: &WitnessFlaw, fixed: &Part, moving: &Part) -> String {
+fn flaw_text(flaw: &WitnessFlaw) -> String {
     let state = |contacts: &[acsg::contact::PrincipalContact]| {
-        let list: Vec<String> = contacts
-            .iter()
-            .map(|c| {
-                format!(
-                    "{} {} {}",
-                    ContactRecord::of(c, fixed, moving).kind.label(),
-                    c.fixed,
-                    c.moving
-                )
-            })
-            .collect();
-        if list.is_empty() {
+        if contacts.is_empty() {
             "no contact".to_owned()
         } else {
-            list.join(", ")
+            contacts.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ")
         }
     };
     match flaw {
@@ -410,7 +399,7 @@ pub(crate) fn print_contacts(at: &ContactsAtPose<'_>, shown: &Shown) -> anyhow::
             out,
             "witness      robust: every checker with a tolerance between 1e-9 L and 1e-6 L reads this state"
         )?,
-        Some(flaw) => writeln!(out, "witness      not robust: {}", flaw_text(flaw, fixed, moving))?,
+        Some(flaw) => writeln!(out, "witness      not robust: {}", flaw_text(flaw))?,
     }
     Ok(())
 }
@@ -430,7 +419,7 @@ fn print_contacts_json(at: &ContactsAtPose<'_>, records: Vec<ContactRecord>, sho
         penetration: at.report.penetration,
         min_gap: at.report.min_gap,
         robust: at.flaw.is_none(),
-        not_robust_because: at.flaw.map(|f| flaw_text(f, at.fixed, at.moving)),
+        not_robust_because: at.flaw.map(flaw_text),
         parts: PartsDocument {
             fixed: &PartElements::of(at.fixed),
             moving: &PartElements::of(at.moving),

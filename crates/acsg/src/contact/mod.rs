@@ -130,6 +130,19 @@ pub struct PrincipalContact {
     pub kind: ContactKind,
 }
 
+/// The contact as text: kind, fixed element, moving element (`f-v f3 v7`).
+///
+/// ```
+/// use acsg::contact::{ContactKind, PrincipalContact};
+/// let pc = PrincipalContact { fixed: "f3".parse().unwrap(), moving: "v7".parse().unwrap(), kind: ContactKind::FaceVertex };
+/// assert_eq!(pc.to_string(), "f-v f3 v7");
+/// ```
+impl fmt::Display for PrincipalContact {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} {} {}", self.kind, self.fixed, self.moving)
+    }
+}
+
 impl PrincipalContact {
     /// Whether the contact is degenerate: v-v, e-v, v-e or e-e-t with both elements
     /// convex (it holds only on a set that any small motion leaves).
@@ -585,12 +598,7 @@ mod tests {
         let placed = pose.to_affine(&DAffine3::IDENTITY);
         let id = |s: &str| -> ElementId { s.parse().unwrap() };
         let ends = scene.state(&placed, CONTACT_REL).contacts;
-        let labels = |contacts: &[PrincipalContact]| {
-            contacts
-                .iter()
-                .map(|pc| format!("{} {} {}", pc.kind.label(), pc.fixed, pc.moving))
-                .collect::<Vec<_>>()
-        };
+        let labels = |contacts: &[PrincipalContact]| contacts.iter().map(ToString::to_string).collect::<Vec<_>>();
         assert_eq!(labels(&ends), ["e-f e7 f2", "v-v v6 v6"]);
         let overlap = scene.state_over_overlap(&placed, CONTACT_REL);
         assert!(

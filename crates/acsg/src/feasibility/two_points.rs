@@ -96,18 +96,20 @@ fn lies_unlisted(part: &Part, other: &Part, held: &[Held], contacts: &[Principal
         held[i + 1..].iter().any(|q| {
             // Two distinct points: two different vertices, or a crossing of the edge.
             let distinct = p.own != q.own || matches!(p.own, ElementId::Edge(_));
-            p.contact != q.contact
-                && distinct
-                && edges_holding(part, p.own)
-                    .into_iter()
-                    .filter(|x| edges_holding(part, q.own).contains(x))
-                    .any(|x| {
-                        other
-                            .faces_around(p.on)
-                            .into_iter()
-                            .filter(|&f| other.in_closure(ElementId::Face(f), q.on))
-                            .any(|f| !listed_on(part, contacts, side, x, f))
-                    })
+            if p.contact == q.contact || !distinct {
+                return false;
+            }
+            let q_edges = edges_holding(part, q.own);
+            edges_holding(part, p.own)
+                .into_iter()
+                .filter(|x| q_edges.contains(x))
+                .any(|x| {
+                    other
+                        .faces_around(p.on)
+                        .into_iter()
+                        .filter(|&f| other.in_closure(ElementId::Face(f), q.on))
+                        .any(|f| !listed_on(part, contacts, side, x, f))
+                })
         })
     })
 }
