@@ -321,6 +321,9 @@ fn flaw_text(flaw: &WitnessFlaw) -> String {
         WitnessFlaw::EdgeOnTwoPoints => {
             "two contacts hold two points of one edge on a face's plane that no contact lists the edge on".to_owned()
         }
+        WitnessFlaw::FaceOnTwoPoints => {
+            "two contacts hold two points on a face of each part, the chord between them through both faces, and no contact lists the faces flush".to_owned()
+        }
         WitnessFlaw::LooseReading(contacts) => {
             format!(
                 "read with a tolerance just under 1e-6 L the state is {}",
