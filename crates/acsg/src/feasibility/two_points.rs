@@ -21,10 +21,11 @@
 //! The state is left alone when one of its contacts already lists `X` on `F` (f-e,
 //! e-f, or f-f with `X` in the closure of the lying face).
 //!
-//! The same holds for a face: the points of two point contacts in the closures of a
-//! face `F` of one part and a face `G` of the other, both faces convex and without
-//! holes, and on no common edge of `F` nor of `G` (a lying edge's or face's corners do
-//! not count: they lie on the other face's plane, but maybe past its rim). The chord between the points then
+//! The same holds for a face: two contacts with points in the closures of a face `F`
+//! of one part and a face `G` of the other, both faces convex and without holes, each
+//! point in the interiors of its contact's elements (a point contact's point, a point
+//! of a lying edge over the face's interior, of two edges running together), and the
+//! elements of the two contacts on no common edge of `F` nor of `G`. The chord between the points then
 //! runs through the interiors of both faces, and it lies on both planes. Any point
 //! of it is interior to both faces, where each part fills the half-space behind its
 //! face: unless the two half-spaces are opposite (the faces flush), they overlap and
@@ -132,22 +133,16 @@ fn lies_unlisted(part: &Part, other: &Part, held: &[Held], contacts: &[Principal
     })
 }
 
-/// Whether two point contacts' points lie in the closures of a face of each part, the
-/// chord between them through both faces' interiors, and no contact lists the faces flush (see the
+/// Whether two contacts' points lie in the closures of a face of each part, the chord
+/// between them through both faces' interiors, and no contact lists the faces flush (see the
 /// module's documentation): `true` means that no pose shows `contacts` robustly.
 pub(crate) fn face_on_two_points(fixed: &Part, moving: &Part, contacts: &[PrincipalContact]) -> bool {
     use ContactKind as K;
-    // The point contacts only: a corner of a lying edge or face is on the other face's
-    // plane, but it may be anywhere on it, even past the face's rim.
-    let points: Vec<&PrincipalContact> = contacts
-        .iter()
-        .filter(|pc| {
-            matches!(
-                pc.kind,
-                K::FaceVertex | K::VertexFace | K::EdgeEdge | K::EdgeVertex | K::VertexEdge | K::VertexVertex
-            )
-        })
-        .collect();
+    // Each contact but face on face has a point in the interiors of both its elements:
+    // a point contact's point, a point where a lying edge overlaps the face's interior
+    // or where two edges run together. (Face on face holds no point that another pair
+    // of faces could share.)
+    let points: Vec<&PrincipalContact> = contacts.iter().filter(|pc| pc.kind != K::FaceFace).collect();
     let flush = |f: FaceId, g: FaceId| {
         contacts.iter().any(|pc| {
             pc.kind == ContactKind::FaceFace && pc.fixed == ElementId::Face(f) && pc.moving == ElementId::Face(g)
@@ -372,6 +367,13 @@ mod tests {
         let along = [corner([50.0, 10.0, 50.0]), corner([50.0, 90.0, 50.0])];
         assert!(!face_on_two_points(&block, &bx, &along));
         assert!(edge_on_two_points(&block, &bx, &along));
+        // A bottom edge lying on the step and the far corner on it: the bottom face
+        // lies on the step as well. With that edge's own end instead, nothing follows.
+        let bottom_edge = edge(&bx, [50.0, 10.0, 50.0], [150.0, 10.0, 50.0]);
+        let lying = [pc(&step, &bottom_edge, false), corner([150.0, 90.0, 50.0])];
+        assert!(face_on_two_points(&block, &bx, &lying));
+        let own_end = [pc(&step, &bottom_edge, false), corner([150.0, 10.0, 50.0])];
+        assert!(!face_on_two_points(&block, &bx, &own_end));
     }
 
     #[test]
