@@ -133,9 +133,10 @@ fn lies_unlisted(part: &Part, other: &Part, held: &[Held], contacts: &[Principal
     })
 }
 
-/// Whether two contacts' points lie in the closures of a face of each part, the chord
-/// between them through both faces' interiors, and no contact lists the faces flush (see the
-/// module's documentation): `true` means that no pose shows `contacts` robustly.
+/// Whether two contacts' points lie in the closure of a face of one part, the chord
+/// between them through its interior, where the other part cannot hold that chord
+/// (see the module's documentation): `true` means that no pose shows `contacts`
+/// robustly.
 pub(crate) fn face_on_two_points(fixed: &Part, moving: &Part, contacts: &[PrincipalContact]) -> bool {
     use ContactKind as K;
     // Each contact but face on face has a point in the interiors of both its elements:
@@ -150,13 +151,35 @@ pub(crate) fn face_on_two_points(fixed: &Part, moving: &Part, contacts: &[Princi
     };
     points.iter().enumerate().any(|(i, a)| {
         points[i + 1..].iter().any(|b| {
-            common_faces(fixed, a.fixed, b.fixed).into_iter().any(|f| {
-                common_faces(moving, a.moving, b.moving)
+            common_faces(fixed, a.fixed, b.fixed)
+                .into_iter()
+                .any(|f| !holds_chord(moving, a.moving, b.moving, |g| flush(f, g)))
+                || common_faces(moving, a.moving, b.moving)
                     .into_iter()
-                    .any(|g| !flush(f, g))
-            })
+                    .any(|g| !holds_chord(fixed, a.fixed, b.fixed, |f| flush(f, g)))
         })
     })
+}
+
+/// Whether `part` may hold a chord through the interior of a face of the other part
+/// between a point in the interior of its element `a` and one in the interior of `b`,
+/// the face lying flush on its faces for which `flush` says so.
+///
+/// A convex part holds the chord (closed, convex) and must not reach past the face
+/// (the other part fills the half-space behind the face's interior), so the chord lies
+/// on its boundary: in one of its edges or faces, whose closure then holds `a` and `b`;
+/// a face must lie flush unless the chord runs along its rim. Any part: a face whose
+/// interior the chord runs through lies flush.
+fn holds_chord(part: &Part, a: ElementId, b: ElementId, flush: impl Fn(FaceId) -> bool) -> bool {
+    if part.edges().iter().all(|x| x.convex) {
+        let both = |e: ElementId| part.in_closure(e, a) && part.in_closure(e, b);
+        let along_edge = (0..part.edges().len() as u32).any(|x| both(ElementId::Edge(EdgeId(x))));
+        let on_flush_face =
+            (0..part.faces().len() as u32).any(|g| both(ElementId::Face(FaceId(g))) && flush(FaceId(g)));
+        along_edge || on_flush_face
+    } else {
+        common_faces(part, a, b).into_iter().all(flush)
+    }
 }
 
 /// The convex faces without holes of `part` whose closures hold both `a` and `b`, on
@@ -354,6 +377,19 @@ mod tests {
         let along_rim = [pc(&wall_top, &box_side, false), pc(&wall_top, &box_front, false)];
         assert!(!face_on_two_points(&block, &bx, &along_rim));
         assert!(edge_on_two_points(&block, &bx, &along_rim));
+        // The wall's side edge lying on the box's end face, and the wall's top edge
+        // crossing a bottom edge that leaves the end face: the chord between them runs
+        // through the wall, inside the (convex) box, and on no face or edge of it, so
+        // the box reaches past the wall.
+        let leaving = edge(&bx, [50.0, 90.0, 50.0], [150.0, 90.0, 50.0]);
+        let off_the_box = [pc(&wall_top, &leaving, false), pc(&wall_side, &end, false)];
+        assert!(face_on_two_points(&block, &bx, &off_the_box));
+        // The top edge crossing an edge of the end face instead: flush, or nothing.
+        let on_the_end = [pc(&wall_top, &box_side, false), pc(&wall_side, &end, false)];
+        assert!(face_on_two_points(&block, &bx, &on_the_end));
+        let mut on_the_end_flush = on_the_end.to_vec();
+        on_the_end_flush.push(pc(&wall, &end, false));
+        assert!(!face_on_two_points(&block, &bx, &on_the_end_flush));
     }
 
     #[test]
