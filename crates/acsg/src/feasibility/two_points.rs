@@ -182,9 +182,11 @@ fn holds_chord(part: &Part, a: ElementId, b: ElementId, flush: impl Fn(FaceId) -
     }
 }
 
-/// The convex faces without holes of `part` whose closures hold both `a` and `b`, on
-/// no common edge of the face: the chord between a point of `a` and one of `b` runs
-/// through the face's interior.
+/// The faces of `part` whose closures hold both `a` and `b`, on no common edge of the
+/// face, such that the chord between any point of `a` and any point of `b` runs
+/// through the face's interior: every face that is convex without holes, and a face
+/// that is not when `a` and `b` are vertices or edges whose corners span a polygon in
+/// the face that no other edge of the face enters ([`spans_within`]).
 fn common_faces(part: &Part, a: ElementId, b: ElementId) -> Vec<FaceId> {
     let rim = |f: FaceId, e: ElementId| -> Vec<EdgeId> {
         edges_holding(part, e)
@@ -194,12 +196,128 @@ fn common_faces(part: &Part, a: ElementId, b: ElementId) -> Vec<FaceId> {
     };
     part.faces_around(a)
         .into_iter()
-        .filter(|&f| part.in_closure(ElementId::Face(f), b) && strictly_convex(part, f))
+        .filter(|&f| part.in_closure(ElementId::Face(f), b))
         .filter(|&f| {
             let on_a = rim(f, a);
             rim(f, b).iter().all(|x| !on_a.contains(x))
         })
+        .filter(|&f| strictly_convex(part, f) || spans_within(part, f, a, b))
         .collect()
+}
+
+/// Whether the corners of `a` and `b` (vertices or edges of face `f`) span a convex
+/// polygon inside the face that no edge of the face other than `a` and `b` enters
+/// (an edge from one of their corners may touch it there, leaving at an angle of more
+/// than a thousandth): every chord between a point
+/// of `a` and one of `b` then runs through the face's interior. A bay of an L-shaped
+/// face between its two edges at the inner corner fails: the polygon covers the notch.
+fn spans_within(part: &Part, f: FaceId, a: ElementId, b: ElementId) -> bool {
+    if matches!(a, ElementId::Face(_)) || matches!(b, ElementId::Face(_)) {
+        return false;
+    }
+    let face = part.face(f);
+    // Coordinates in the face's plane.
+    let u = face.normal.any_orthonormal_vector();
+    let w = face.normal.cross(u);
+    let flat = |p: glam::DVec3| glam::DVec2::new(p.dot(u), p.dot(w));
+    let eps = crate::tolerance::scaled(crate::tolerance::WELD_REL, part.bounds().diagonal());
+    let mut corners: Vec<_> = part.closure_vertices(a);
+    corners.extend(part.closure_vertices(b));
+    let hull = convex_hull(
+        &corners
+            .iter()
+            .map(|&v| flat(part.vertex(v).position))
+            .collect::<Vec<_>>(),
+        eps,
+    );
+    if hull.len() < 3 {
+        return false;
+    }
+    let own = |x: EdgeId| ElementId::Edge(x) == a || ElementId::Edge(x) == b;
+    let entered = face.loops.iter().flat_map(|l| l.edges.iter()).any(|&x| {
+        if own(x) {
+            return false;
+        }
+        // An edge from a corner may touch the polygon there: its rest, from a thousand
+        // times the tolerance off that corner, must stay out.
+        let [mut p, mut q] = part.edge(x).vertices;
+        if corners.contains(&q) {
+            std::mem::swap(&mut p, &mut q);
+        }
+        let from_corner = corners.contains(&p);
+        let [p, q] = [p, q].map(|v| flat(part.vertex(v).position));
+        let p = if from_corner {
+            p + (q - p) * (1e3 * eps / p.distance(q)).min(1.0)
+        } else {
+            p
+        };
+        clip_to_convex(p, q, &hull, eps).is_some()
+    });
+    if entered {
+        return false;
+    }
+    // No edge enters it, so the polygon is inside the face or outside: its centre says.
+    let centre = hull.iter().copied().sum::<glam::DVec2>() / hull.len() as f64;
+    let crossings = face
+        .loops
+        .iter()
+        .flat_map(|l| l.edges.iter())
+        .filter(|&&x| {
+            let [p, q] = part.edge(x).vertices.map(|v| flat(part.vertex(v).position));
+            (p.y > centre.y) != (q.y > centre.y) && centre.x < p.x + (centre.y - p.y) / (q.y - p.y) * (q.x - p.x)
+        })
+        .count();
+    crossings % 2 == 1
+}
+
+/// The convex hull of points in a plane, counter-clockwise, without corners closer
+/// than `eps` to the line of their neighbours (monotone chain).
+fn convex_hull(points: &[glam::DVec2], eps: f64) -> Vec<glam::DVec2> {
+    let mut sorted = points.to_vec();
+    sorted.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
+    sorted.dedup_by(|p, q| p.distance(*q) <= eps);
+    if sorted.len() < 3 {
+        return sorted;
+    }
+    let turns_left = |o: glam::DVec2, p: glam::DVec2, q: glam::DVec2| (p - o).perp_dot(q - o) > eps * (q - o).length();
+    let mut hull: Vec<glam::DVec2> = Vec::new();
+    for pass in [false, true] {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &glam::DVec2>> = if pass {
+            Box::new(sorted.iter().rev())
+        } else {
+            Box::new(sorted.iter())
+        };
+        for &p in iter {
+            while hull.len() >= start + 2 && !turns_left(hull[hull.len() - 2], hull[hull.len() - 1], p) {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// The part `[t0, t1]` of the segment from `p` to `q` (as parameters in `[0, 1]`)
+/// within `eps` of the convex polygon `hull` (counter-clockwise), `None` when none is.
+fn clip_to_convex(p: glam::DVec2, q: glam::DVec2, hull: &[glam::DVec2], eps: f64) -> Option<(f64, f64)> {
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    for i in 0..hull.len() {
+        let (h, k) = (hull[i], hull[(i + 1) % hull.len()]);
+        let side = (k - h).normalize();
+        // Signed distance to the left of the side, at p and at q.
+        let (dp, dq) = (side.perp_dot(p - h) + eps, side.perp_dot(q - h) + eps);
+        if dp < 0.0 && dq < 0.0 {
+            return None;
+        }
+        if dp < 0.0 {
+            t0 = t0.max(dp / (dp - dq));
+        } else if dq < 0.0 {
+            t1 = t1.min(dp / (dp - dq));
+        }
+    }
+    (t0 <= t1).then_some((t0, t1))
 }
 
 /// Whether a face has no holes and turns by at least [`LEAST_CORNER_TURN`] at every
@@ -424,5 +542,37 @@ mod tests {
         let box_top = edge(&bx, [50.0, 10.0, 150.0], [150.0, 10.0, 150.0]);
         let state = [pc(&bottom, &box_bottom, false), pc(&wall_front, &box_top, false)];
         assert!(!face_on_two_points(&block, &bx, &state));
+    }
+
+    #[test]
+    fn a_chord_counts_on_an_l_shaped_face_where_no_other_edge_enters_its_span() {
+        // The L-block's back face is an L. The wall's side edge and the wall's top back
+        // edge (the upright's corner of it) span a triangle inside the face; the step's
+        // back edge and the wall's side edge span the notch, outside it.
+        let (block, bx) = l_block_and_box();
+        let wall_side = edge(&block, [150.0, 100.0, 50.0], [150.0, 100.0, 150.0]);
+        let wall_top_back = edge(&block, [150.0, 100.0, 150.0], [200.0, 100.0, 150.0]);
+        let step_back = edge(&block, [0.0, 100.0, 50.0], [150.0, 100.0, 50.0]);
+        // Two edges of the box's back face (y = 90) crossing them.
+        let box_side = edge(&bx, [150.0, 90.0, 50.0], [150.0, 90.0, 150.0]);
+        let box_bottom = edge(&bx, [50.0, 90.0, 50.0], [150.0, 90.0, 50.0]);
+        let upright = [pc(&wall_side, &box_side, false), pc(&wall_top_back, &box_bottom, false)];
+        assert!(face_on_two_points(&block, &bx, &upright));
+        let notch = [pc(&step_back, &box_bottom, false), pc(&wall_side, &box_side, false)];
+        assert!(!face_on_two_points(&block, &bx, &notch));
+    }
+
+    #[test]
+    fn the_hull_of_points_drops_inner_and_collinear_ones() {
+        let p = |x: f64, y: f64| glam::DVec2::new(x, y);
+        let hull = convex_hull(
+            &[p(0.0, 0.0), p(1.0, 0.0), p(2.0, 0.0), p(1.0, 1.0), p(1.0, 0.2)],
+            1e-12,
+        );
+        assert_eq!(hull, vec![p(0.0, 0.0), p(2.0, 0.0), p(1.0, 1.0)]);
+        // A segment through the triangle, one touching its corner, one outside.
+        assert!(clip_to_convex(p(-1.0, 0.5), p(3.0, 0.5), &hull, 1e-12).is_some_and(|(t0, t1)| t1 - t0 > 0.1));
+        assert!(clip_to_convex(p(2.0, 0.0), p(3.0, 1.0), &hull, 1e-12).is_some_and(|(t0, t1)| t1 - t0 < 1e-9));
+        assert_eq!(clip_to_convex(p(-1.0, 2.0), p(3.0, 2.0), &hull, 1e-12), None);
     }
 }
