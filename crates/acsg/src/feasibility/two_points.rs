@@ -133,10 +133,10 @@ fn lies_unlisted(part: &Part, other: &Part, held: &[Held], contacts: &[Principal
     })
 }
 
-/// Whether two contacts' points lie in the closure of a face of one part, the chord
-/// between them through its interior, where the other part cannot hold that chord
-/// (see the module's documentation): `true` means that no pose shows `contacts`
-/// robustly.
+/// Whether two contacts' points lie on one part's boundary (the chord between them
+/// through the interior of one of its faces, or along one of its edges) where the other
+/// part cannot hold that chord (see the module's documentation): `true` means that no
+/// pose shows `contacts` robustly.
 pub(crate) fn face_on_two_points(fixed: &Part, moving: &Part, contacts: &[PrincipalContact]) -> bool {
     use ContactKind as K;
     // Each contact but face on face has a point in the interiors of both its elements:
@@ -151,35 +151,50 @@ pub(crate) fn face_on_two_points(fixed: &Part, moving: &Part, contacts: &[Princi
     };
     points.iter().enumerate().any(|(i, a)| {
         points[i + 1..].iter().any(|b| {
-            common_faces(fixed, a.fixed, b.fixed)
-                .into_iter()
-                .any(|f| !holds_chord(moving, a.moving, b.moving, |g| flush(f, g)))
-                || common_faces(moving, a.moving, b.moving)
-                    .into_iter()
-                    .any(|g| !holds_chord(fixed, a.fixed, b.fixed, |f| flush(f, g)))
+            let through_fixed = common_faces(fixed, a.fixed, b.fixed);
+            let through_moving = common_faces(moving, a.moving, b.moving);
+            let chord_on_fixed = !through_fixed.is_empty() || along_an_edge(fixed, a.fixed, b.fixed);
+            let chord_on_moving = !through_moving.is_empty() || along_an_edge(moving, a.moving, b.moving);
+            (chord_on_fixed && !holds_chord(moving, a.moving, b.moving, &through_fixed, |g, f| flush(f, g)))
+                || (chord_on_moving && !holds_chord(fixed, a.fixed, b.fixed, &through_moving, flush))
         })
     })
 }
 
-/// Whether `part` may hold a chord through the interior of a face of the other part
-/// between a point in the interior of its element `a` and one in the interior of `b`,
-/// the face lying flush on its faces for which `flush` says so.
+/// Whether `part` may hold a chord that lies on the other part's boundary (through the
+/// interiors of the other part's faces `through`, or along its edges) between a point
+/// in the interior of its element `a` and one in the interior of `b`; `flush(g, f)`
+/// says whether its face `g` lies flush on the other part's face `f`.
 ///
-/// A convex part holds the chord (closed, convex) and must not reach past the face
-/// (the other part fills the half-space behind the face's interior), so the chord lies
-/// on its boundary: in one of its edges or faces, whose closure then holds `a` and `b`;
-/// a face must lie flush unless the chord runs along its rim. Any part: a face whose
-/// interior the chord runs through lies flush.
-fn holds_chord(part: &Part, a: ElementId, b: ElementId, flush: impl Fn(FaceId) -> bool) -> bool {
+/// Every point of the other part's boundary has that part's interior next to it, which
+/// `part` must not reach. A convex part holds the chord (it is convex), so the chord
+/// lies on its boundary: in one of its edges, or in one of its faces, whose closure then
+/// holds `a` and `b`; that face lies flush on a face of `through`. Any part: a face
+/// whose interior the chord runs through lies flush on a face of `through`.
+fn holds_chord(
+    part: &Part,
+    a: ElementId,
+    b: ElementId,
+    through: &[FaceId],
+    flush: impl Fn(FaceId, FaceId) -> bool,
+) -> bool {
+    let flush_on_through = |g: FaceId| through.iter().all(|&f| flush(g, f));
     if part.edges().iter().all(|x| x.convex) {
         let both = |e: ElementId| part.in_closure(e, a) && part.in_closure(e, b);
-        let along_edge = (0..part.edges().len() as u32).any(|x| both(ElementId::Edge(EdgeId(x))));
-        let on_flush_face =
-            (0..part.faces().len() as u32).any(|g| both(ElementId::Face(FaceId(g))) && flush(FaceId(g)));
-        along_edge || on_flush_face
+        along_an_edge(part, a, b)
+            || (0..part.faces().len() as u32)
+                .map(FaceId)
+                .any(|g| both(ElementId::Face(g)) && flush_on_through(g))
     } else {
-        common_faces(part, a, b).into_iter().all(flush)
+        common_faces(part, a, b).into_iter().all(flush_on_through)
     }
+}
+
+/// Whether an edge of `part` holds both `a` and `b` in its closure.
+fn along_an_edge(part: &Part, a: ElementId, b: ElementId) -> bool {
+    edges_holding(part, a)
+        .into_iter()
+        .any(|x| part.in_closure(ElementId::Edge(x), b))
 }
 
 /// The faces of `part` whose closures hold both `a` and `b`, on no common edge of the
@@ -505,6 +520,14 @@ mod tests {
         // The top edge crossing an edge of the end face instead: flush, or nothing.
         let on_the_end = [pc(&wall_top, &box_side, false), pc(&wall_side, &end, false)];
         assert!(face_on_two_points(&block, &bx, &on_the_end));
+        // The wall's top edge crossing the box's side edge, and its end on the box's
+        // bottom face: the chord runs along the wall's edge, inside the box, and on no
+        // face or edge of it.
+        let corner = vertex(&block, [150.0, 100.0, 150.0]);
+        let bottom = face(&bx, [0.0, 0.0, -1.0], [0.0, 0.0, 50.0]);
+        let along_wall_edge = [pc(&wall_top, &box_side, false), pc(&corner, &bottom, false)];
+        assert!(face_on_two_points(&block, &bx, &along_wall_edge));
+        assert!(!edge_on_two_points(&block, &bx, &along_wall_edge));
         let mut on_the_end_flush = on_the_end.to_vec();
         on_the_end_flush.push(pc(&wall, &end, false));
         assert!(!face_on_two_points(&block, &bx, &on_the_end_flush));
