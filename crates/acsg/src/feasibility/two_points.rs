@@ -157,8 +157,40 @@ pub(crate) fn face_on_two_points(fixed: &Part, moving: &Part, contacts: &[Princi
             let chord_on_moving = !through_moving.is_empty() || along_an_edge(moving, a.moving, b.moving);
             (chord_on_fixed && !holds_chord(moving, a.moving, b.moving, &through_fixed, |g, f| flush(f, g)))
                 || (chord_on_moving && !holds_chord(fixed, a.fixed, b.fixed, &through_moving, flush))
+                || (in_one_piece(fixed, a.fixed, b.fixed)
+                    && in_one_piece(moving, a.moving, b.moving)
+                    && !(on_one_element(fixed, a.fixed, b.fixed) && on_one_element(moving, a.moving, b.moving)))
         })
     })
+}
+
+/// Whether one convex piece of `part` holds `a` and `b` (every corner of both), and so
+/// every chord between their points.
+///
+/// A chord inside both parts lies on both boundaries: a point of it inside one part
+/// has the other part's interior next to it. A segment on a part's boundary lies in
+/// one of its faces or edges (across an edge it would leave the boundary), whose
+/// closure then holds the elements of both ends ([`on_one_element`]).
+fn in_one_piece(part: &Part, a: ElementId, b: ElementId) -> bool {
+    let eps = crate::tolerance::scaled(crate::tolerance::WELD_REL, part.bounds().diagonal());
+    let corners: Vec<glam::DVec3> = part
+        .closure_vertices(a)
+        .into_iter()
+        .chain(part.closure_vertices(b))
+        .map(|v| part.vertex(v).position)
+        .collect();
+    part.convex_pieces()
+        .iter()
+        .any(|piece| corners.iter().all(|&p| piece.outside_distance(p) <= eps))
+}
+
+/// Whether an edge or a face of `part` holds both `a` and `b` in its closure.
+fn on_one_element(part: &Part, a: ElementId, b: ElementId) -> bool {
+    along_an_edge(part, a, b)
+        || part
+            .faces_around(a)
+            .into_iter()
+            .any(|f| part.in_closure(ElementId::Face(f), b))
 }
 
 /// Whether `part` may hold a chord that lies on the other part's boundary (through the
@@ -597,5 +629,33 @@ mod tests {
         assert!(clip_to_convex(p(-1.0, 0.5), p(3.0, 0.5), &hull, 1e-12).is_some_and(|(t0, t1)| t1 - t0 > 0.1));
         assert!(clip_to_convex(p(2.0, 0.0), p(3.0, 1.0), &hull, 1e-12).is_some_and(|(t0, t1)| t1 - t0 < 1e-9));
         assert_eq!(clip_to_convex(p(-1.0, 2.0), p(3.0, 2.0), &hull, 1e-12), None);
+    }
+
+    #[test]
+    fn a_chord_inside_both_parts_lies_on_a_face_or_an_edge_of_each() {
+        // The box's end-face bottom edge lying on the L-block's wall, and the upright's
+        // front top edge crossing the box's front bottom edge: the chord from the wall
+        // to that top edge runs through the upright (one convex piece), and the box
+        // holds it, so the parts would penetrate.
+        let (block, bx) = l_block_and_box();
+        let wall = face(&block, [-1.0, 0.0, 0.0], [150.0, 0.0, 0.0]);
+        let upright_top_front = edge(&block, [150.0, 0.0, 150.0], [200.0, 0.0, 150.0]);
+        let end_bottom = edge(&bx, [150.0, 10.0, 50.0], [150.0, 90.0, 50.0]);
+        let front_bottom = edge(&bx, [50.0, 10.0, 50.0], [150.0, 10.0, 50.0]);
+        assert!(in_one_piece(
+            &block,
+            wall.parse().unwrap(),
+            upright_top_front.parse().unwrap()
+        ));
+        let state = [
+            pc(&wall, &end_bottom, false),
+            pc(&upright_top_front, &front_bottom, false),
+        ];
+        assert!(face_on_two_points(&block, &bx, &state));
+        // The wall's top edge instead: the chord runs on the wall, nothing follows
+        // from this rule alone.
+        let wall_top = edge(&block, [150.0, 0.0, 150.0], [150.0, 100.0, 150.0]);
+        let on_the_wall = [pc(&wall, &end_bottom, false), pc(&wall_top, &front_bottom, false)];
+        assert!(on_one_element(&block, on_the_wall[0].fixed, on_the_wall[1].fixed));
     }
 }
