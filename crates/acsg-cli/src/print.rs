@@ -321,8 +321,8 @@ fn flaw_text(flaw: &WitnessFlaw) -> String {
         WitnessFlaw::EdgeOnTwoPoints => {
             "two contacts hold two points of one edge on a face's plane that no contact lists the edge on".to_owned()
         }
-        WitnessFlaw::FaceOnTwoPoints => {
-            "two contacts hold two points on a face of each part, the chord between them through both faces, and no contact lists the faces flush".to_owned()
+        WitnessFlaw::ChordOffTheBoundary => {
+            "the chord between two contacts' points lies on one part's boundary and inside the other, or inside both, on no face or edge they share lying flush".to_owned()
         }
         WitnessFlaw::LooseReading(contacts) => {
             format!(

@@ -58,11 +58,11 @@ pub enum Rule {
     /// would lie on the face. The witness check makes the same test, so the decisions
     /// make it before any search.
     EdgeOnTwoPoints,
-    /// Two contacts hold two points in the closures of a face of each part, with the
-    /// chord between them through both faces' interiors, and no contact lists the faces
-    /// flush (`feasibility::two_points`): in exact geometry the faces would lie flush
-    /// or the parts penetrate. Tested by the witness check too, and before any search.
-    FaceOnTwoPoints,
+    /// The chord between two contacts' points reaches into a part's interior, whatever
+    /// the pose, unless a face lies flush or the chord runs along an edge that no
+    /// contact lists (`feasibility::two_points`): in exact geometry the parts penetrate.
+    /// Tested by the witness check too, and before any search.
+    ChordOffTheBoundary,
     /// A crossing whose edge stays parallel to a face at the other edge under every
     /// rotation of the bounds (`feasibility::parallel`): the edge lies in that face
     /// wherever it crosses, which implies the crossing. Tested before any search.
@@ -292,8 +292,8 @@ impl Problem<'_> {
         if super::two_points::edge_on_two_points(self.fixed, self.moving, target) {
             return Err(Rule::EdgeOnTwoPoints);
         }
-        if super::two_points::face_on_two_points(self.fixed, self.moving, target) {
-            return Err(Rule::FaceOnTwoPoints);
+        if super::two_points::chord_off_the_boundary(self.fixed, self.moving, target) {
+            return Err(Rule::ChordOffTheBoundary);
         }
         if super::parallel::crossing_held_in_a_face(
             self.fixed,

@@ -934,10 +934,10 @@ pub enum WitnessFlaw {
     /// Two contacts hold two points of one edge on a face's plane, and no contact lists
     /// the edge on that face: in exact geometry the edge lies on the face.
     EdgeOnTwoPoints,
-    /// Two contacts hold two points in the closures of a face of each part, with the
-    /// chord between them through both faces' interiors, and no contact lists the
-    /// faces flush: in exact geometry the faces lie flush or the parts penetrate.
-    FaceOnTwoPoints,
+    /// The chord between two contacts' points lies on one part's boundary and inside
+    /// the other, or inside both, on none of their shared faces or edges (whatever the
+    /// pose): in exact geometry the parts penetrate there.
+    ChordOffTheBoundary,
     /// Read with a touching tolerance just under the separation, the state is this one.
     LooseReading(Vec<PrincipalContact>),
     /// Read over the overlap (an edge or face lying on a face where they overlap, two
@@ -985,8 +985,8 @@ pub fn witness_flaw(
     if two_points::edge_on_two_points(fixed, moving, &report.contacts) {
         return Some(WitnessFlaw::EdgeOnTwoPoints);
     }
-    if two_points::face_on_two_points(fixed, moving, &report.contacts) {
-        return Some(WitnessFlaw::FaceOnTwoPoints);
+    if two_points::chord_off_the_boundary(fixed, moving, &report.contacts) {
+        return Some(WitnessFlaw::ChordOffTheBoundary);
     }
     let loose = scene.state(moving_to_fixed, LOOSE_CONTACT_REL).contacts;
     if loose != report.contacts {

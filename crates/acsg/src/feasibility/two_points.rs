@@ -21,24 +21,33 @@
 //! The state is left alone when one of its contacts already lists `X` on `F` (f-e,
 //! e-f, or f-f with `X` in the closure of the lying face).
 //!
-//! The same holds for a face: two contacts with points in the closures of a face `F`
-//! of one part and a face `G` of the other, both faces convex and without holes, each
-//! point in the interiors of its contact's elements (a point contact's point, a point
-//! of a lying edge over the face's interior, of two edges running together), and the
-//! elements of the two contacts on no common edge of `F` nor of `G`. The chord between the points then
-//! runs through the interiors of both faces, and it lies on both planes. Any point
-//! of it is interior to both faces, where each part fills the half-space behind its
-//! face: unless the two half-spaces are opposite (the faces flush), they overlap and
-//! the parts penetrate. So `G` lies on `F` (f-f), which the state must list. Within
-//! the tolerance the faces may turn apart by the tolerance over the chord's reach
-//! (the built-in example's box with the corner of its end face past the corner of the
-//! L-block's wall, a bottom and a side edge crossing the wall's top and side edges): an
-//! artefact again.
+//! The chord between two contacts obeys the same kind of law
+//! ([`chord_off_the_boundary`]). Every contact but face on face has a point in the
+//! interiors of both its elements (a point contact's point, a point of a lying edge
+//! over the face's interior, of two edges running together), and the chord between two
+//! such points must not reach into either part's interior: next to every point of one
+//! part's boundary lies that part's interior, and next to every point of a part lies
+//! some of its interior, so a chord point on one part's boundary (or inside it) and
+//! inside the other (or on its boundary) makes the parts penetrate. Three cases follow,
+//! each decided on the contacts' elements alone:
+//! - the chord lies on one part's boundary (along an edge, or through the interior of a
+//!   face `F`: convex without holes, or the two elements spanning a polygon in it that
+//!   no other edge of it enters) and the other part is convex, so holds the chord: the
+//!   chord lies on that part's boundary too, in one of its edges or faces, and such a
+//!   face lies flush on `F` (f-f);
+//! - the chord runs through the interiors of a face of each part: the faces lie flush;
+//! - each part holds the chord (both ends' elements in one convex piece of each): it
+//!   lies on a face or an edge of each.
+//!
+//! A state that breaks one has no exact pose: the parts penetrate. Within the tolerance
+//! a face may turn off the other by the tolerance over the chord's reach (the built-in
+//! example's box with the corner of its end face past the corner of the L-block's wall,
+//! a bottom and a side edge crossing the wall's top and side edges): an artefact again.
 
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::model::{EdgeId, ElementId, FaceId, Part};
 
-/// The smallest turn (a sine) at every corner of a face that [`face_on_two_points`]
+/// The smallest turn (a sine) at every corner of a face that [`chord_off_the_boundary`]
 /// takes as convex: a corner that turns less is as good as straight, and a chord
 /// between points on its two edges runs along the face's rim.
 const LEAST_CORNER_TURN: f64 = 1e-3;
@@ -137,7 +146,7 @@ fn lies_unlisted(part: &Part, other: &Part, held: &[Held], contacts: &[Principal
 /// through the interior of one of its faces, or along one of its edges) where the other
 /// part cannot hold that chord (see the module's documentation): `true` means that no
 /// pose shows `contacts` robustly.
-pub(crate) fn face_on_two_points(fixed: &Part, moving: &Part, contacts: &[PrincipalContact]) -> bool {
+pub(crate) fn chord_off_the_boundary(fixed: &Part, moving: &Part, contacts: &[PrincipalContact]) -> bool {
     use ContactKind as K;
     // Each contact but face on face has a point in the interiors of both its elements:
     // a point contact's point, a point where a lying edge overlaps the face's interior
@@ -529,18 +538,18 @@ mod tests {
         let box_side = edge(&bx, [150.0, 90.0, 50.0], [150.0, 90.0, 150.0]);
         let box_bottom = edge(&bx, [150.0, 10.0, 50.0], [150.0, 90.0, 50.0]);
         let state = [pc(&wall_top, &box_side, false), pc(&wall_side, &box_bottom, false)];
-        assert!(face_on_two_points(&block, &bx, &state));
+        assert!(chord_off_the_boundary(&block, &bx, &state));
         // Listed flush, the state says so itself.
         let wall = face(&block, [-1.0, 0.0, 0.0], [150.0, 0.0, 0.0]);
         let end = face(&bx, [1.0, 0.0, 0.0], [150.0, 0.0, 0.0]);
         let mut flush = state.to_vec();
         flush.push(pc(&wall, &end, false));
-        assert!(!face_on_two_points(&block, &bx, &flush));
+        assert!(!chord_off_the_boundary(&block, &bx, &flush));
         // Two box edges crossing the one wall edge: the chord runs along the wall's
         // rim, not through it (the edge rule speaks there).
         let box_front = edge(&bx, [150.0, 10.0, 50.0], [150.0, 10.0, 150.0]);
         let along_rim = [pc(&wall_top, &box_side, false), pc(&wall_top, &box_front, false)];
-        assert!(!face_on_two_points(&block, &bx, &along_rim));
+        assert!(!chord_off_the_boundary(&block, &bx, &along_rim));
         assert!(edge_on_two_points(&block, &bx, &along_rim));
         // The wall's side edge lying on the box's end face, and the wall's top edge
         // crossing a bottom edge that leaves the end face: the chord between them runs
@@ -548,21 +557,21 @@ mod tests {
         // the box reaches past the wall.
         let leaving = edge(&bx, [50.0, 90.0, 50.0], [150.0, 90.0, 50.0]);
         let off_the_box = [pc(&wall_top, &leaving, false), pc(&wall_side, &end, false)];
-        assert!(face_on_two_points(&block, &bx, &off_the_box));
+        assert!(chord_off_the_boundary(&block, &bx, &off_the_box));
         // The top edge crossing an edge of the end face instead: flush, or nothing.
         let on_the_end = [pc(&wall_top, &box_side, false), pc(&wall_side, &end, false)];
-        assert!(face_on_two_points(&block, &bx, &on_the_end));
+        assert!(chord_off_the_boundary(&block, &bx, &on_the_end));
         // The wall's top edge crossing the box's side edge, and its end on the box's
         // bottom face: the chord runs along the wall's edge, inside the box, and on no
         // face or edge of it.
         let corner = vertex(&block, [150.0, 100.0, 150.0]);
         let bottom = face(&bx, [0.0, 0.0, -1.0], [0.0, 0.0, 50.0]);
         let along_wall_edge = [pc(&wall_top, &box_side, false), pc(&corner, &bottom, false)];
-        assert!(face_on_two_points(&block, &bx, &along_wall_edge));
+        assert!(chord_off_the_boundary(&block, &bx, &along_wall_edge));
         assert!(!edge_on_two_points(&block, &bx, &along_wall_edge));
         let mut on_the_end_flush = on_the_end.to_vec();
         on_the_end_flush.push(pc(&wall, &end, false));
-        assert!(!face_on_two_points(&block, &bx, &on_the_end_flush));
+        assert!(!chord_off_the_boundary(&block, &bx, &on_the_end_flush));
     }
 
     #[test]
@@ -571,18 +580,18 @@ mod tests {
         let step = face(&block, [0.0, 0.0, 1.0], [0.0, 0.0, 50.0]);
         let corner = |at: [f64; 3]| pc(&step, &vertex(&bx, at), false);
         let diagonal = [corner([50.0, 10.0, 50.0]), corner([150.0, 90.0, 50.0])];
-        assert!(face_on_two_points(&block, &bx, &diagonal));
+        assert!(chord_off_the_boundary(&block, &bx, &diagonal));
         // Two corners of one edge: the edge lies on the step, the face need not.
         let along = [corner([50.0, 10.0, 50.0]), corner([50.0, 90.0, 50.0])];
-        assert!(!face_on_two_points(&block, &bx, &along));
+        assert!(!chord_off_the_boundary(&block, &bx, &along));
         assert!(edge_on_two_points(&block, &bx, &along));
         // A bottom edge lying on the step and the far corner on it: the bottom face
         // lies on the step as well. With that edge's own end instead, nothing follows.
         let bottom_edge = edge(&bx, [50.0, 10.0, 50.0], [150.0, 10.0, 50.0]);
         let lying = [pc(&step, &bottom_edge, false), corner([150.0, 90.0, 50.0])];
-        assert!(face_on_two_points(&block, &bx, &lying));
+        assert!(chord_off_the_boundary(&block, &bx, &lying));
         let own_end = [pc(&step, &bottom_edge, false), corner([150.0, 10.0, 50.0])];
-        assert!(!face_on_two_points(&block, &bx, &own_end));
+        assert!(!chord_off_the_boundary(&block, &bx, &own_end));
     }
 
     #[test]
@@ -596,7 +605,7 @@ mod tests {
         let box_bottom = edge(&bx, [50.0, 10.0, 50.0], [150.0, 10.0, 50.0]);
         let box_top = edge(&bx, [50.0, 10.0, 150.0], [150.0, 10.0, 150.0]);
         let state = [pc(&bottom, &box_bottom, false), pc(&wall_front, &box_top, false)];
-        assert!(!face_on_two_points(&block, &bx, &state));
+        assert!(!chord_off_the_boundary(&block, &bx, &state));
     }
 
     #[test]
@@ -612,9 +621,9 @@ mod tests {
         let box_side = edge(&bx, [150.0, 90.0, 50.0], [150.0, 90.0, 150.0]);
         let box_bottom = edge(&bx, [50.0, 90.0, 50.0], [150.0, 90.0, 50.0]);
         let upright = [pc(&wall_side, &box_side, false), pc(&wall_top_back, &box_bottom, false)];
-        assert!(face_on_two_points(&block, &bx, &upright));
+        assert!(chord_off_the_boundary(&block, &bx, &upright));
         let notch = [pc(&step_back, &box_bottom, false), pc(&wall_side, &box_side, false)];
-        assert!(!face_on_two_points(&block, &bx, &notch));
+        assert!(!chord_off_the_boundary(&block, &bx, &notch));
     }
 
     #[test]
@@ -651,7 +660,7 @@ mod tests {
             pc(&wall, &end_bottom, false),
             pc(&upright_top_front, &front_bottom, false),
         ];
-        assert!(face_on_two_points(&block, &bx, &state));
+        assert!(chord_off_the_boundary(&block, &bx, &state));
         // The wall's top edge instead: the chord runs on the wall, nothing follows
         // from this rule alone.
         let wall_top = edge(&block, [150.0, 0.0, 150.0], [150.0, 100.0, 150.0]);
