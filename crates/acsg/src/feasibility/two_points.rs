@@ -32,9 +32,9 @@
 //! each decided on the contacts' elements alone:
 //! - the chord lies on one part's boundary (along an edge, or through the interior of a
 //!   face `F`: convex without holes, or the two elements spanning a polygon in it that
-//!   no other edge of it enters) and the other part is convex, so holds the chord: the
-//!   chord lies on that part's boundary too, in one of its edges or faces, and such a
-//!   face lies flush on `F` (f-f);
+//!   no other edge of it enters) and one convex piece of the other part holds both
+//!   ends' elements, so the chord: the chord lies on that part's boundary too, in one
+//!   of its edges or faces, and such a face lies flush on `F` (f-f);
 //! - the chord runs through the interiors of a face of each part: the faces lie flush;
 //! - each part holds the chord (both ends' elements in one convex piece of each): it
 //!   lies on a face or an edge of each.
@@ -208,10 +208,11 @@ fn on_one_element(part: &Part, a: ElementId, b: ElementId) -> bool {
 /// says whether its face `g` lies flush on the other part's face `f`.
 ///
 /// Every point of the other part's boundary has that part's interior next to it, which
-/// `part` must not reach. A convex part holds the chord (it is convex), so the chord
-/// lies on its boundary: in one of its edges, or in one of its faces, whose closure then
-/// holds `a` and `b`; that face lies flush on a face of `through`. Any part: a face
-/// whose interior the chord runs through lies flush on a face of `through`.
+/// `part` must not reach. When one convex piece of `part` holds `a` and `b`, it holds
+/// the chord, so the chord lies on the part's boundary: in one of its edges, or in one
+/// of its faces, whose closure then holds `a` and `b`; that face lies flush on a face
+/// of `through`. Otherwise: a face whose interior the chord runs through lies flush on
+/// a face of `through`.
 fn holds_chord(
     part: &Part,
     a: ElementId,
@@ -220,7 +221,7 @@ fn holds_chord(
     flush: impl Fn(FaceId, FaceId) -> bool,
 ) -> bool {
     let flush_on_through = |g: FaceId| through.iter().all(|&f| flush(g, f));
-    if part.edges().iter().all(|x| x.convex) {
+    if in_one_piece(part, a, b) {
         let both = |e: ElementId| part.in_closure(e, a) && part.in_closure(e, b);
         along_an_edge(part, a, b)
             || (0..part.faces().len() as u32)
