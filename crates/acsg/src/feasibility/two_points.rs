@@ -44,8 +44,12 @@
 //! example's box with the corner of its end face past the corner of the L-block's wall,
 //! a bottom and a side edge crossing the wall's top and side edges): an artefact again.
 
+use glam::DVec3;
+
 use crate::contact::{ContactKind, PrincipalContact};
-use crate::model::{EdgeId, ElementId, FaceId, Part};
+use crate::geometry::{PlanarRegion, hull_in_plane};
+use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
+use crate::tolerance::{WELD_REL, scaled};
 
 /// The smallest turn (a sine) at every corner of a face that [`chord_off_the_boundary`]
 /// takes as convex: a corner that turns less is as good as straight, and a chord
@@ -181,8 +185,8 @@ pub(crate) fn chord_off_the_boundary(fixed: &Part, moving: &Part, contacts: &[Pr
 /// one of its faces or edges (across an edge it would leave the boundary), whose
 /// closure then holds the elements of both ends ([`on_one_element`]).
 fn in_one_piece(part: &Part, a: ElementId, b: ElementId) -> bool {
-    let eps = crate::tolerance::scaled(crate::tolerance::WELD_REL, part.bounds().diagonal());
-    let corners: Vec<glam::DVec3> = part
+    let eps = scaled(WELD_REL, part.bounds().diagonal());
+    let corners: Vec<DVec3> = part
         .closure_vertices(a)
         .into_iter()
         .chain(part.closure_vertices(b))
@@ -273,20 +277,11 @@ fn spans_within(part: &Part, f: FaceId, a: ElementId, b: ElementId) -> bool {
         return false;
     }
     let face = part.face(f);
-    // Coordinates in the face's plane.
-    let u = face.normal.any_orthonormal_vector();
-    let w = face.normal.cross(u);
-    let flat = |p: glam::DVec3| glam::DVec2::new(p.dot(u), p.dot(w));
-    let eps = crate::tolerance::scaled(crate::tolerance::WELD_REL, part.bounds().diagonal());
-    let mut corners: Vec<_> = part.closure_vertices(a);
+    let eps = scaled(WELD_REL, part.bounds().diagonal());
+    let at = |v: VertexId| part.vertex(v).position;
+    let mut corners: Vec<VertexId> = part.closure_vertices(a);
     corners.extend(part.closure_vertices(b));
-    let hull = convex_hull(
-        &corners
-            .iter()
-            .map(|&v| flat(part.vertex(v).position))
-            .collect::<Vec<_>>(),
-        eps,
-    );
+    let hull = hull_in_plane(&corners.iter().map(|&v| at(v)).collect::<Vec<_>>(), face.normal, eps);
     if hull.len() < 3 {
         return false;
     }
@@ -302,69 +297,39 @@ fn spans_within(part: &Part, f: FaceId, a: ElementId, b: ElementId) -> bool {
             std::mem::swap(&mut p, &mut q);
         }
         let from_corner = corners.contains(&p);
-        let [p, q] = [p, q].map(|v| flat(part.vertex(v).position));
+        let (p, q) = (at(p), at(q));
         let p = if from_corner {
             p + (q - p) * (1e3 * eps / p.distance(q)).min(1.0)
         } else {
             p
         };
-        clip_to_convex(p, q, &hull, eps).is_some()
+        clip_to_convex(p, q, &hull, face.normal, eps).is_some()
     });
-    if entered {
-        return false;
-    }
-    // No edge enters it, so the polygon is inside the face or outside: its centre says.
-    let centre = hull.iter().copied().sum::<glam::DVec2>() / hull.len() as f64;
-    let crossings = face
+    // No edge enters the polygon, so it is inside the face or outside: its centre says.
+    let loops: Vec<Vec<DVec3>> = face
         .loops
         .iter()
-        .flat_map(|l| l.edges.iter())
-        .filter(|&&x| {
-            let [p, q] = part.edge(x).vertices.map(|v| flat(part.vertex(v).position));
-            (p.y > centre.y) != (q.y > centre.y) && centre.x < p.x + (centre.y - p.y) / (q.y - p.y) * (q.x - p.x)
-        })
-        .count();
-    crossings % 2 == 1
-}
-
-/// The convex hull of points in a plane, counter-clockwise, without corners closer
-/// than `eps` to the line of their neighbours (monotone chain).
-fn convex_hull(points: &[glam::DVec2], eps: f64) -> Vec<glam::DVec2> {
-    let mut sorted = points.to_vec();
-    sorted.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
-    sorted.dedup_by(|p, q| p.distance(*q) <= eps);
-    if sorted.len() < 3 {
-        return sorted;
-    }
-    let turns_left = |o: glam::DVec2, p: glam::DVec2, q: glam::DVec2| (p - o).perp_dot(q - o) > eps * (q - o).length();
-    let mut hull: Vec<glam::DVec2> = Vec::new();
-    for pass in [false, true] {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &glam::DVec2>> = if pass {
-            Box::new(sorted.iter().rev())
-        } else {
-            Box::new(sorted.iter())
-        };
-        for &p in iter {
-            while hull.len() >= start + 2 && !turns_left(hull[hull.len() - 2], hull[hull.len() - 1], p) {
-                hull.pop();
-            }
-            hull.push(p);
-        }
-        hull.pop();
-    }
-    hull
+        .map(|l| l.vertices.iter().map(|&v| at(v)).collect())
+        .collect();
+    let region = PlanarRegion {
+        normal: face.normal,
+        offset: face.offset,
+        loops: &loops,
+        triangles: &[],
+    };
+    !entered && region.contains_projection(hull.iter().copied().sum::<DVec3>() / hull.len() as f64)
 }
 
 /// The part `[t0, t1]` of the segment from `p` to `q` (as parameters in `[0, 1]`)
-/// within `eps` of the convex polygon `hull` (counter-clockwise), `None` when none is.
-fn clip_to_convex(p: glam::DVec2, q: glam::DVec2, hull: &[glam::DVec2], eps: f64) -> Option<(f64, f64)> {
+/// within `eps` of the convex polygon `hull` (counter-clockwise about `n`, on the
+/// segment's plane), `None` when none is.
+fn clip_to_convex(p: DVec3, q: DVec3, hull: &[DVec3], n: DVec3, eps: f64) -> Option<(f64, f64)> {
     let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
     for i in 0..hull.len() {
         let (h, k) = (hull[i], hull[(i + 1) % hull.len()]);
-        let side = (k - h).normalize();
-        // Signed distance to the left of the side, at p and at q.
-        let (dp, dq) = (side.perp_dot(p - h) + eps, side.perp_dot(q - h) + eps);
+        let inward = n.cross(k - h).normalize();
+        // Distance to the inner side of the side, at p and at q.
+        let (dp, dq) = (inward.dot(p - h) + eps, inward.dot(q - h) + eps);
         if dp < 0.0 && dq < 0.0 {
             return None;
         }
@@ -628,17 +593,24 @@ mod tests {
     }
 
     #[test]
-    fn the_hull_of_points_drops_inner_and_collinear_ones() {
-        let p = |x: f64, y: f64| glam::DVec2::new(x, y);
-        let hull = convex_hull(
+    fn a_segment_is_clipped_to_the_part_of_it_over_a_convex_polygon() {
+        // The triangle (0,0), (2,0), (1,1) on the plane z = 0, its hull dropping the
+        // point on a side and the one inside.
+        let p = |x: f64, y: f64| DVec3::new(x, y, 0.0);
+        let hull = hull_in_plane(
             &[p(0.0, 0.0), p(1.0, 0.0), p(2.0, 0.0), p(1.0, 1.0), p(1.0, 0.2)],
+            DVec3::Z,
             1e-12,
         );
-        assert_eq!(hull, vec![p(0.0, 0.0), p(2.0, 0.0), p(1.0, 1.0)]);
-        // A segment through the triangle, one touching its corner, one outside.
-        assert!(clip_to_convex(p(-1.0, 0.5), p(3.0, 0.5), &hull, 1e-12).is_some_and(|(t0, t1)| t1 - t0 > 0.1));
-        assert!(clip_to_convex(p(2.0, 0.0), p(3.0, 1.0), &hull, 1e-12).is_some_and(|(t0, t1)| t1 - t0 < 1e-9));
-        assert_eq!(clip_to_convex(p(-1.0, 2.0), p(3.0, 2.0), &hull, 1e-12), None);
+        assert_eq!(hull.len(), 3);
+        // Through it from x = 0.5 to 1.5 of a segment from -1 to 3: parameters 3/8, 5/8.
+        let (t0, t1) = clip_to_convex(p(-1.0, 0.5), p(3.0, 0.5), &hull, DVec3::Z, 1e-12).unwrap();
+        assert!((t0 - 0.375).abs() < 1e-9 && (t1 - 0.625).abs() < 1e-9);
+        // Touching its corner only, and outside.
+        assert!(
+            clip_to_convex(p(2.0, 0.0), p(3.0, 1.0), &hull, DVec3::Z, 1e-12).is_some_and(|(t0, t1)| t1 - t0 < 1e-9)
+        );
+        assert_eq!(clip_to_convex(p(-1.0, 2.0), p(3.0, 2.0), &hull, DVec3::Z, 1e-12), None);
     }
 
     #[test]

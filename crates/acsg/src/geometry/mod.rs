@@ -16,7 +16,7 @@ pub use polytope::{ConvexFace, ConvexPolytope};
 pub(crate) use distance::{
     PlanarRegion, Segment, point_region, point_segment, region_region, segment_region, segment_segment,
 };
-pub(crate) use plane::{newell, plane_basis, shoelace};
+pub(crate) use plane::{hull_in_plane, newell, plane_basis, shoelace};
 pub(crate) use polytope::{clip_convex, clip_polygon};
 pub(crate) use weld::weld;
 pub(crate) use winding::winding_number;
