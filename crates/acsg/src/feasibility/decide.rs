@@ -58,10 +58,11 @@ pub enum Rule {
     /// would lie on the face. The witness check makes the same test, so the decisions
     /// make it before any search.
     EdgeOnTwoPoints,
-    /// The chord between two contacts' points reaches into a part's interior, whatever
-    /// the pose, unless a face lies flush or the chord runs along an edge that no
-    /// contact lists (`feasibility::two_points`): in exact geometry the parts penetrate.
-    /// Tested by the witness check too, and before any search.
+    /// The chord between two contacts' points lies on one part's boundary and inside
+    /// the other, or inside both, and no edge or face of each can carry it (a face it
+    /// runs through would have to lie flush), whatever the pose
+    /// (`feasibility::two_points`): in exact geometry the parts penetrate. Tested by
+    /// the witness check too, and before any search.
     ChordOffTheBoundary,
     /// A crossing whose edge stays parallel to a face at the other edge under every
     /// rotation of the bounds (`feasibility::parallel`): the edge lies in that face
