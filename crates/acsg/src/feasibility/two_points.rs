@@ -199,11 +199,14 @@ fn in_one_piece(part: &Part, a: ElementId, b: ElementId) -> bool {
 
 /// Whether an edge or a face of `part` holds both `a` and `b` in its closure.
 fn on_one_element(part: &Part, a: ElementId, b: ElementId) -> bool {
-    along_an_edge(part, a, b)
-        || part
-            .faces_around(a)
-            .into_iter()
-            .any(|f| part.in_closure(ElementId::Face(f), b))
+    along_an_edge(part, a, b) || faces_holding(part, a, b).next().is_some()
+}
+
+/// The faces of `part` whose closures hold both `a` and `b`.
+fn faces_holding(part: &Part, a: ElementId, b: ElementId) -> impl Iterator<Item = FaceId> + '_ {
+    part.faces_around(a)
+        .into_iter()
+        .filter(move |&f| part.in_closure(ElementId::Face(f), b))
 }
 
 /// Whether `part` may hold a chord that lies on the other part's boundary (through the
@@ -226,11 +229,7 @@ fn holds_chord(
 ) -> bool {
     let flush_on_through = |g: FaceId| through.iter().all(|&f| flush(g, f));
     if in_one_piece(part, a, b) {
-        let both = |e: ElementId| part.in_closure(e, a) && part.in_closure(e, b);
-        along_an_edge(part, a, b)
-            || (0..part.faces().len() as u32)
-                .map(FaceId)
-                .any(|g| both(ElementId::Face(g)) && flush_on_through(g))
+        along_an_edge(part, a, b) || faces_holding(part, a, b).any(flush_on_through)
     } else {
         common_faces(part, a, b).into_iter().all(flush_on_through)
     }
@@ -255,9 +254,7 @@ fn common_faces(part: &Part, a: ElementId, b: ElementId) -> Vec<FaceId> {
             .filter(|&x| part.in_closure(ElementId::Face(f), ElementId::Edge(x)))
             .collect()
     };
-    part.faces_around(a)
-        .into_iter()
-        .filter(|&f| part.in_closure(ElementId::Face(f), b))
+    faces_holding(part, a, b)
         .filter(|&f| {
             let on_a = rim(f, a);
             rim(f, b).iter().all(|x| !on_a.contains(x))
