@@ -68,6 +68,11 @@ pub enum Rule {
     /// rotation of the bounds (`feasibility::parallel`): the edge lies in that face
     /// wherever it crosses, which implies the crossing. Tested before any search.
     CrossingInAFace,
+    /// A crossing of two edges that stay parallel under every rotation the candidate
+    /// allows (the bounds', or the turns about a flush face's normal;
+    /// `feasibility::parallel`): parallel edges that meet run together or touch at an
+    /// end, never cross. Tested before any search.
+    ParallelCrossing,
     /// No rotation in the box puts each part on the outer side of the other's face.
     Orientation,
     /// Interval constraint propagation of the contacts and of non-penetration of
@@ -304,6 +309,15 @@ impl Problem<'_> {
             target,
         ) {
             return Err(Rule::CrossingInAFace);
+        }
+        if super::parallel::crossing_of_parallel_edges(
+            self.fixed,
+            self.moving,
+            &self.bounds,
+            self.assembled.matrix3,
+            target,
+        ) {
+            return Err(Rule::ParallelCrossing);
         }
         let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {

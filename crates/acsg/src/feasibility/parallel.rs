@@ -17,6 +17,13 @@
 //! turned by `G R(rx, ry, rz)`, is affine in the cosine and sine of each angle, so it
 //! vanishes on the whole box of rotations when it vanishes at three distinct angles of
 //! each component (with the others at theirs), 27 evaluations at most.
+//!
+//! The candidate's own contacts narrow the rotations too: a face flush on a face
+//! leaves only the turns about their normal, two edges running together the turns
+//! about the edge ([`rotation_families`]). Each such one-angle set holds every
+//! rotation of the candidate and is decided the same way, at three angles of its turn.
+//! On any of these sets, two crossing edges that stay parallel rule the crossing out
+//! as well ([`crossing_of_parallel_edges`]).
 
 use glam::{DMat3, DVec3};
 
@@ -35,8 +42,9 @@ pub(crate) const MIN_CROSSING_SINE: f64 = 0.05;
 const PARALLEL_ROUNDOFF: f64 = 1e-14;
 
 /// Whether a crossing of `target` has one edge held parallel to a face at the other
-/// edge under every rotation of `bounds` (see the module's documentation): `true`
-/// proves that no pose in the bounds shows `target`. `assembled` is G's rotation.
+/// edge under every rotation the candidate allows (see the module's documentation):
+/// `true` proves that no pose in the bounds shows `target`. `assembled` is G's
+/// rotation.
 pub(crate) fn crossing_held_in_a_face(
     fixed: &Part,
     moving: &Part,
@@ -48,31 +56,155 @@ pub(crate) fn crossing_held_in_a_face(
     if !target.iter().any(|pc| pc.kind == ContactKind::EdgeEdge) {
         return false;
     }
-    let rotations = sample_rotations(bounds, assembled);
+    let families = rotation_families(fixed, moving, bounds, assembled, target);
     let (centre, reach) = centre_and_reach(bounds, assembled);
-    target.iter().any(|pc| {
-        let (ElementId::Edge(a), ElementId::Edge(b), ContactKind::EdgeEdge) = (pc.fixed, pc.moving, pc.kind) else {
-            return false;
-        };
-        let (da, db) = (direction(fixed, a), direction(moving, b));
+    crossings(fixed, moving, target).any(|(a, b, da, db)| {
         // The angle between the edges, at every rotation of the bounds.
-        if da.cross(centre * db).length() - reach < MIN_CROSSING_SINE {
-            return false;
-        }
-        // A face of the moving part at b, parallel to a; a face of the fixed part at a,
-        // parallel to b.
-        let moving_face = moving
-            .edge(b)
-            .faces
-            .iter()
-            .any(|&f| parallel_everywhere(&rotations, da, moving.face(f).normal));
-        let fixed_face = fixed
-            .edge(a)
-            .faces
-            .iter()
-            .any(|&f| parallel_everywhere(&rotations, fixed.face(f).normal, db));
-        moving_face || fixed_face
+        let bounded_sine = da.cross(centre * db).length() - reach;
+        families.iter().any(|family| {
+            if bounded_sine.max(family.least_sine(da, db)) < MIN_CROSSING_SINE {
+                return false;
+            }
+            // A face of the moving part at b, parallel to a; a face of the fixed part
+            // at a, parallel to b.
+            let moving_face = moving
+                .edge(b)
+                .faces
+                .iter()
+                .any(|&f| parallel_everywhere(&family.samples, da, moving.face(f).normal));
+            let fixed_face = fixed
+                .edge(a)
+                .faces
+                .iter()
+                .any(|&f| parallel_everywhere(&family.samples, fixed.face(f).normal, db));
+            moving_face || fixed_face
+        })
     })
+}
+
+/// Whether a crossing of `target` joins two edges that stay parallel under every
+/// rotation the candidate allows (a face flush on a face turns only about its normal;
+/// the bounds may pin the turns): `true` proves that no pose shows `target`. Two
+/// parallel edges that meet share a stretch of line, or touch at an end: they run
+/// together (e-e-t) or meet at a corner, and never cross at one point inside both.
+pub(crate) fn crossing_of_parallel_edges(
+    fixed: &Part,
+    moving: &Part,
+    bounds: &Bounds,
+    assembled: DMat3,
+    target: &[PrincipalContact],
+) -> bool {
+    if !target.iter().any(|pc| pc.kind == ContactKind::EdgeEdge) {
+        return false;
+    }
+    let families = rotation_families(fixed, moving, bounds, assembled, target);
+    crossings(fixed, moving, target).any(|(_, _, da, db)| {
+        families.iter().any(|family| {
+            family
+                .samples
+                .iter()
+                .all(|r| da.cross(*r * db).length() <= PARALLEL_ROUNDOFF)
+        })
+    })
+}
+
+/// The crossings (e-e contacts) of `target`: the edges and their unit directions.
+fn crossings<'t>(
+    fixed: &'t Part,
+    moving: &'t Part,
+    target: &'t [PrincipalContact],
+) -> impl Iterator<Item = (EdgeId, EdgeId, DVec3, DVec3)> + 't {
+    target.iter().filter_map(|pc| match (pc.fixed, pc.moving, pc.kind) {
+        (ElementId::Edge(a), ElementId::Edge(b), ContactKind::EdgeEdge) => {
+            Some((a, b, direction(fixed, a), direction(moving, b)))
+        }
+        _ => None,
+    })
+}
+
+/// A set of rotations `G R` holding every rotation a candidate allows, given by
+/// samples from which a function affine in the cosine and sine of each of its angles
+/// is known everywhere on it (it vanishes on the set when it vanishes at the samples).
+struct Family {
+    samples: Vec<DMat3>,
+    /// For a one-angle family `M₀ · Rot(axis, φ)`, φ over the whole turn: `M₀` and
+    /// the axis (in the moving part's frame).
+    turn: Option<(DMat3, DVec3)>,
+}
+
+/// Samples of φ a one-angle family's least crossing sine is taken over; between them
+/// a unit vector moves by at most π / this.
+const TURN_SAMPLES: usize = 64;
+
+impl Family {
+    /// `M₀ · Rot(axis, φ)` for φ over the whole turn: sampled at three angles (a
+    /// turned vector is affine in cos φ and sin φ, Rodrigues' formula).
+    fn turning(m0: DMat3, axis: DVec3) -> Family {
+        let samples = (0..3)
+            .map(|k| m0 * DMat3::from_axis_angle(axis, f64::from(k) * std::f64::consts::TAU / 3.0))
+            .collect();
+        Family {
+            samples,
+            turn: Some((m0, axis)),
+        }
+    }
+
+    /// A lower bound of `|da × M db|` over the family (−∞ when unknown): for a
+    /// one-angle family its least value at [`TURN_SAMPLES`] angles, less the most a
+    /// unit vector moves between two of them.
+    fn least_sine(&self, da: DVec3, db: DVec3) -> f64 {
+        let Some((m0, axis)) = self.turn else {
+            return f64::NEG_INFINITY;
+        };
+        let step = std::f64::consts::TAU / TURN_SAMPLES as f64;
+        (0..TURN_SAMPLES)
+            .map(|k| {
+                da.cross(m0 * (DMat3::from_axis_angle(axis, k as f64 * step) * db))
+                    .length()
+            })
+            .fold(f64::INFINITY, f64::min)
+            - 0.5 * step
+    }
+}
+
+/// The rotation sets a candidate's rotations lie in: the bounds' (sampled per angle
+/// component), and for each face flush on a face (f-f) the turns about the normals
+/// that keep them opposed, for each pair of edges running together (e-e-t) the turns
+/// about the edge that keep them parallel, either way round. Each set holds every
+/// rotation of the candidate, so what holds on all of one set holds on the candidate.
+fn rotation_families(
+    fixed: &Part,
+    moving: &Part,
+    bounds: &Bounds,
+    assembled: DMat3,
+    target: &[PrincipalContact],
+) -> Vec<Family> {
+    let mut families = vec![Family {
+        samples: sample_rotations(bounds, assembled),
+        turn: None,
+    }];
+    for pc in target {
+        match (pc.kind, pc.fixed, pc.moving) {
+            (ContactKind::FaceFace, ElementId::Face(f), ElementId::Face(g)) => {
+                let (na, nb) = (fixed.face(f).normal, moving.face(g).normal);
+                families.push(Family::turning(
+                    DMat3::from_quat(glam::DQuat::from_rotation_arc(nb, -na)),
+                    nb,
+                ));
+            }
+            (ContactKind::EdgeEdgeTouch, ElementId::Edge(a), ElementId::Edge(b)) => {
+                let (da, db) = (direction(fixed, a), direction(moving, b));
+                for sign in [1.0, -1.0] {
+                    families.push(Family::turning(
+                        DMat3::from_quat(glam::DQuat::from_rotation_arc(db, sign * da)),
+                        db,
+                    ));
+                }
+            }
+            _ => {}
+        }
+    }
+    families
 }
 
 /// Whether `u · (R v)` vanishes at every sampled rotation.
@@ -142,6 +274,69 @@ mod tests {
         // With the yaw free the face turns off the rim edge's direction.
         let free = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, -d], [1.0, 1.0, 45.0, d, d, d]).unwrap();
         assert!(!crossing_held_in_a_face(&hole, &peg, &free, DMat3::IDENTITY, &crossing));
+    }
+
+    /// The built-in example's box with its +x face flush on the wall (f-f f5/f5) turns
+    /// only about x: its bottom edge e6 (along x) stays parallel to the step's back edge
+    /// e7, and its bottom face f2 holds the x direction, so e7 crossing the bottom edge
+    /// e1 lies in f2. Without the flush face neither holds over the bounds.
+    #[test]
+    fn a_flush_face_pins_the_turns_that_hold_edges_parallel() {
+        let (fixed, moving) = crate::examples::l_block_and_box();
+        let bounds = crate::examples::paper_bounds();
+        let flush = contact("f5", "f5", ContactKind::FaceFace);
+        let mut along = vec![flush, contact("e7", "e6", ContactKind::EdgeEdge)];
+        along.sort();
+        let mut across = vec![flush, contact("e7", "e1", ContactKind::EdgeEdge)];
+        across.sort();
+        let at = DMat3::IDENTITY;
+        assert!(crossing_of_parallel_edges(&fixed, &moving, &bounds, at, &along));
+        assert!(!crossing_held_in_a_face(&fixed, &moving, &bounds, at, &along));
+        assert!(crossing_held_in_a_face(&fixed, &moving, &bounds, at, &across));
+        assert!(!crossing_of_parallel_edges(&fixed, &moving, &bounds, at, &across));
+        for alone in [&along[1..], &across[1..]] {
+            assert!(!crossing_of_parallel_edges(&fixed, &moving, &bounds, at, alone));
+            assert!(!crossing_held_in_a_face(&fixed, &moving, &bounds, at, alone));
+        }
+        // An assembled pose turns the family with the parts: a quarter turn about the
+        // wall's normal keeps the face flush and e6 still runs along x.
+        let quarter = DMat3::from_rotation_x(std::f64::consts::FRAC_PI_2);
+        assert!(crossing_of_parallel_edges(&fixed, &moving, &bounds, quarter, &along));
+    }
+
+    /// Independently of the rule: poses built by hand with the box's +x face on the
+    /// wall (turned about x only, at x = 0) and its bottom edge e1 through a point of the
+    /// step's back edge e7. The contact module reads e7 lying on the box's bottom face
+    /// there, never the flush face and the crossing alone.
+    #[test]
+    fn where_a_flush_box_crosses_the_steps_edge_the_contact_module_reads_the_edge_on_its_bottom() {
+        let (fixed, moving) = crate::examples::l_block_and_box();
+        let scene = crate::contact::ContactScene::new(&fixed, &moving);
+        let mut crossing = vec![
+            contact("f5", "f5", ContactKind::FaceFace),
+            contact("e7", "e1", ContactKind::EdgeEdge),
+        ];
+        crossing.sort();
+        let lying = contact("e7", "f2", ContactKind::EdgeFace);
+        for (rx, along) in [(-0.05, 50.0), (-0.2, 30.0), (-0.3, 70.0), (-0.01, 20.0)] {
+            // The point (50, along, 50) of e1 at (50, 100, 50), on e7.
+            let (c, s) = (f64::cos(rx), f64::sin(rx));
+            let pose = Pose::from_array([
+                0.0,
+                100.0 - (along * c - 50.0 * s),
+                50.0 - (along * s + 50.0 * c),
+                rx,
+                0.0,
+                0.0,
+            ]);
+            let report = scene.state(
+                &pose.to_affine(&glam::DAffine3::IDENTITY),
+                crate::tolerance::CONTACT_REL,
+            );
+            assert_eq!(report.penetration, 0.0, "at rx = {rx}");
+            assert!(report.contacts.contains(&lying), "at rx = {rx}: {:?}", report.contacts);
+            assert_ne!(report.contacts, crossing);
+        }
     }
 
     /// Independently of the rule: at poses where the peg's corner edge e0 crosses the
