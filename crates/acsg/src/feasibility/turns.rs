@@ -158,7 +158,7 @@ impl Turns {
         let r = rotation_enclosure(b);
         self.turns.iter().all(|t| {
             let v = value(&r, t.n, t.d);
-            v.hi >= t.lo && v.lo <= t.hi
+            t.lo <= t.hi && v.hi >= t.lo && v.lo <= t.hi
         }) && self.avoid.iter().all(|t| {
             let v = value(&r, t.n, t.d);
             v.lo <= t.lo || v.hi >= t.hi
@@ -379,6 +379,9 @@ impl Problem<'_> {
                     out.turns.push(turn(n, d, least, f64::INFINITY));
                     out.avoid.push(turn(n, d, -flat, flat));
                 }
+                for d in reflex_directions(self.moving, b) {
+                    out.turns.push(turn(n, d, least, -least));
+                }
                 for (d, slack) in within(self.moving, b) {
                     out.turns.push(turn(n, d, -slack, slack));
                 }
@@ -410,6 +413,9 @@ impl Problem<'_> {
                 for (d, flat) in leaving(self.fixed, a) {
                     out.turns.push(turn(to_g(d), m, least, f64::INFINITY));
                     out.avoid.push(turn(to_g(d), m, -flat, flat));
+                }
+                for d in reflex_directions(self.fixed, a) {
+                    out.turns.push(turn(to_g(d), m, least, -least));
                 }
                 for (d, slack) in within(self.fixed, a) {
                     out.turns.push(turn(to_g(d), m, -slack, slack));
@@ -599,6 +605,34 @@ fn edges_leaving(part: &Part, v: VertexId) -> Vec<(DVec3, f64)> {
         .collect()
 }
 
+/// The edges' directions at a vertex whose negations its part also leaves it along:
+/// at a reflex corner of a face (an interior angle above 180°, the hole's rim corner
+/// in the block's top face) the face holds the corner's two edges' directions negated.
+/// Like the edges, those must not turn into a face the vertex touches, so each such
+/// direction `d` has `n · (R d)` between the least rise and its negation (one
+/// condition, so that the two sides are seen together: an empty range once the rise
+/// must be positive). With the edges they span the face's plane: a vertex at a reflex
+/// corner touches a face only with that face flush on its own, which no robust witness
+/// reads as a point contact.
+fn reflex_directions(part: &Part, e: ElementId) -> Vec<DVec3> {
+    let ElementId::Vertex(v) = e else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for &f in &part.vertex(v).faces {
+        for corners in part.face(f).loops.iter().map(|l| &l.vertices) {
+            let n = corners.len();
+            for i in (0..n).filter(|&i| corners[i] == v && !part.corner_is_convex(f, corners, i)) {
+                let here = part.vertex(v).position;
+                for k in [i + n - 1, i + 1] {
+                    out.push((part.vertex(corners[k % n]).position - here).normalize());
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The diagonal of a face's bounding box.
 fn diameter(part: &Part, f: FaceId) -> f64 {
     let corners = part.closure_vertices(ElementId::Face(f));
@@ -764,5 +798,42 @@ mod tests {
         )
         .unwrap();
         assert!(problem.strict_turns(&corner).may_hold(&away));
+    }
+
+    #[test]
+    fn a_rim_corner_touches_a_face_only_flush_with_the_rim() {
+        // The plain hole's rim corner v5 (35, 35, 50): the top face holds every
+        // direction around it but the hole's quadrant, so the peg's bottom face f2
+        // through it either dips into the top face on one side or lies flush on it.
+        // Its edges alone (+x, +y along the rim, -z down the hole's wall) allow the
+        // tilts that lift both rim directions.
+        let (a, b) = (
+            crate::testing::fixture("block_with_hole.off"),
+            crate::testing::fixture("peg.off"),
+        );
+        let d = 1f64.to_radians();
+        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let problem = Problem::new(&a, &b, bounds, glam::DAffine3::IDENTITY);
+        let corner = [crate::testing::contact("v5", "f2", K::VertexFace)];
+        let at = |rx: [f64; 2], ry: [f64; 2]| {
+            Bounds::try_new(
+                [-1.0, -1.0, 38.0, rx[0], ry[0], 0.0],
+                [1.0, 1.0, 41.0, rx[1], ry[1], 0.0],
+            )
+            .unwrap()
+        };
+        // Turned by more than LEVER_SLACK in either tilt, or not at all.
+        for tilted in [
+            at([0.012, 0.0175], [-0.001, 0.001]),
+            at([-0.001, 0.001], [-0.0175, -0.012]),
+        ] {
+            assert!(!problem.turns(&corner).may_hold(&tilted));
+        }
+        let level = at([-0.001, 0.001], [-0.001, 0.001]);
+        assert!(problem.turns(&corner).may_hold(&level));
+        assert!(!problem.strict_turns(&corner).may_hold(&level));
+        // A convex corner of the peg on the block's top face keeps its freedom.
+        let peg_corner = [crate::testing::contact("f3", "v0", K::FaceVertex)];
+        assert!(problem.strict_turns(&peg_corner).may_hold(&level));
     }
 }
