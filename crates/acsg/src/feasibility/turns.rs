@@ -17,7 +17,7 @@ use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use super::prover::{face_untouched, implied};
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::Aabb;
-use crate::model::{ElementId, FaceId, Part, VertexId};
+use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, MIN_TILT, ROTATION_PROBE, SEPARATION_REL, scaled};
 
@@ -86,6 +86,20 @@ pub(crate) struct Turns {
     askew: Vec<Askew>,
     flush: Vec<Flush>,
     lying: Vec<Lying>,
+    outside: Vec<Outside>,
+}
+
+/// A direction of one part at a vertex held in an edge of the other that must not
+/// point into a convex cone of the other part there: one of the cone's faces has it on
+/// its outer side, `n · (R d)` at least `-LEVER_SLACK` for one of the pairs. Either a
+/// direction the vertex's part leaves it along, against the wedge of a convex held
+/// edge; or the held edge's own direction, either way, against the cone at the vertex
+/// of each convex piece of the vertex's part that holds it. A direction turned into
+/// the cone by more penetrates it: the vertex is at least the prover's margin from the
+/// edge's ends, and the cone's part reaches that far.
+#[derive(Clone, Debug)]
+struct Outside {
+    sides: Vec<(DVec3, DVec3)>,
 }
 
 /// An edge leaving a vertex held on an edge of the other part, into one of that edge's
@@ -173,6 +187,10 @@ impl Turns {
                 let v = value(&r, l.flat.n, l.flat.d);
                 v.lo <= l.flat.lo || v.hi >= l.flat.hi || value(&r, l.into.0, l.into.1).lo <= 0.0
             })
+            && self
+                .outside
+                .iter()
+                .all(|o| o.sides.iter().any(|&(n, d)| value(&r, n, d).hi >= -LEVER_SLACK))
             && self.flush.iter().all(|f| {
                 let flush = DVec3::AXES.iter().enumerate().all(|(k, &axis)| {
                     let v = value(&r, axis, f.m);
@@ -190,6 +208,7 @@ impl Turns {
             && self.askew.is_empty()
             && self.flush.is_empty()
             && self.lying.is_empty()
+            && self.outside.is_empty()
     }
 
     /// The box with its angle ranges cut down to where the conditions may hold
@@ -498,6 +517,7 @@ impl Problem<'_> {
             }
             (a, b) => {
                 self.add_lying(pc, target, rise, out);
+                self.add_outside(pc, out);
                 // A vertex in an edge or on a vertex: an edge of one part leaving the
                 // contact along an edge of the other lies along it (e-e-t), unless the
                 // two leave the shared vertex in opposite directions.
@@ -530,6 +550,56 @@ impl Problem<'_> {
 }
 
 impl Problem<'_> {
+    /// A vertex held in an edge of the other part: no direction its part leaves it
+    /// along (its edges, and the negated edges at a reflex corner of a face) points
+    /// into the edge's wedge when the edge is convex, and the edge points, either way,
+    /// into no convex piece of the vertex's part at the vertex.
+    fn add_outside(&self, pc: &PrincipalContact, out: &mut Turns) {
+        let to_g = |d: DVec3| self.prover.fixed_direction(d);
+        let near = scaled(CONTACT_REL, self.scale);
+        let normals = |part: &Part, x: EdgeId| part.edge(x).faces.map(|f| part.face(f).normal);
+        match (pc.fixed, pc.moving) {
+            (ElementId::Vertex(v), ElementId::Edge(x)) => {
+                if self.moving.edge(x).convex {
+                    let [m1, m2] = normals(self.moving, x);
+                    for d in directions_leaving(self.fixed, v) {
+                        let d = to_g(d);
+                        out.outside.push(Outside {
+                            sides: vec![(d, m1), (d, m2)],
+                        });
+                    }
+                }
+                let along = self.moving.edge_direction(x);
+                for cone in piece_cones(self.fixed, v, near) {
+                    for d in [along, -along] {
+                        out.outside.push(Outside {
+                            sides: cone.iter().map(|&n| (to_g(n), d)).collect(),
+                        });
+                    }
+                }
+            }
+            (ElementId::Edge(e), ElementId::Vertex(v)) => {
+                if self.fixed.edge(e).convex {
+                    let [n1, n2] = normals(self.fixed, e).map(to_g);
+                    for d in directions_leaving(self.moving, v) {
+                        out.outside.push(Outside {
+                            sides: vec![(n1, d), (n2, d)],
+                        });
+                    }
+                }
+                let along = to_g(self.fixed.edge_direction(e));
+                for cone in piece_cones(self.moving, v, near) {
+                    for d in [along, -along] {
+                        out.outside.push(Outside {
+                            sides: cone.iter().map(|&m| (d, m)).collect(),
+                        });
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
     /// A vertex held on an edge of the other part: none of its edges runs into a face
     /// of that edge lying along it. The contact holds the vertex within the contact
     /// tolerance of the face's plane, so an edge turned off the plane by less than
@@ -603,6 +673,34 @@ fn edges_leaving(part: &Part, v: VertexId) -> Vec<(DVec3, f64)> {
             (d.normalize(), d.length())
         })
         .collect()
+}
+
+/// The cones at a vertex of the convex pieces of its part that hold it: the outward
+/// normals of each such piece's faces through the vertex (within `near`).
+fn piece_cones(part: &Part, v: VertexId, near: f64) -> Vec<Vec<DVec3>> {
+    let p = part.vertex(v).position;
+    part.convex_pieces()
+        .iter()
+        .filter(|piece| piece.outside_distance(p) <= near)
+        .map(|piece| {
+            piece
+                .faces()
+                .iter()
+                .filter(|f| (f.normal.dot(p) - f.offset).abs() <= near)
+                .map(|f| f.normal)
+                .collect::<Vec<DVec3>>()
+        })
+        .filter(|cone| !cone.is_empty())
+        .collect()
+}
+
+/// Every direction a vertex's part leaves it along that [`edges_leaving`] and
+/// [`reflex_directions`] show: its edges' and, at a reflex corner of a face, the
+/// corner's edges' negated.
+fn directions_leaving(part: &Part, v: VertexId) -> Vec<DVec3> {
+    let mut out: Vec<DVec3> = edges_leaving(part, v).into_iter().map(|(d, _)| d).collect();
+    out.extend(reflex_directions(part, ElementId::Vertex(v)).into_iter().map(|d| -d));
+    out
 }
 
 /// The edges' directions at a vertex whose negations its part also leaves it along:
@@ -835,5 +933,59 @@ mod tests {
         // A convex corner of the peg on the block's top face keeps its freedom.
         let peg_corner = [crate::testing::contact("f3", "v0", K::FaceVertex)];
         assert!(problem.strict_turns(&peg_corner).may_hold(&level));
+    }
+
+    #[test]
+    fn the_l_blocks_inner_corner_on_the_boxs_edge_sends_the_walls_edge_into_it() {
+        // The L-block's concave corner v6 (150, 100, 50) in the box's bottom back edge
+        // e6, the box turned by rx near -0.29: the wall's back edge e12 leaves v6
+        // straight up, into the box's wedge (above its bottom, in front of its back).
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let corner = [crate::testing::contact("v6", "e6", K::VertexEdge)];
+        let turned = Bounds::try_new(
+            [-1.0, -1.0, 27.0, -0.295, -0.005, -0.009],
+            [0.0, 1.0, 29.0, -0.29, 0.0, -0.004],
+        )
+        .unwrap();
+        assert!(!problem.turns(&corner).may_hold(&turned));
+        // Turned the other way, the step's concave edge e9 leaves v6 along -y into the
+        // wedge; level, every edge of v6 runs along a face of the wedge or away from it.
+        let other = Bounds::try_new(
+            [-1.0, -1.0, 27.0, 0.29, -0.005, -0.009],
+            [0.0, 1.0, 29.0, 0.295, 0.0, -0.004],
+        )
+        .unwrap();
+        assert!(!problem.turns(&corner).may_hold(&other));
+        let level = Bounds::try_new(
+            [-1.0, -1.0, 27.0, -1e-3, -1e-3, -1e-3],
+            [0.0, 1.0, 29.0, 1e-3, 1e-3, 1e-3],
+        )
+        .unwrap();
+        assert!(problem.turns(&corner).may_hold(&level));
+    }
+
+    #[test]
+    fn the_boxs_upright_edge_through_the_l_blocks_inner_corner_dips_into_the_floor() {
+        // The L-block's corner v6 (150, 100, 50) in the box's upright edge e11, the box
+        // turned by rx near -0.16 and level otherwise: e11 runs from v6 down towards -y,
+        // into the floor's piece below v6 (its cone there: z <= 0, y <= 0). The wedge
+        // test alone does not see it: no edge of v6 enters the box there.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let corner = [crate::testing::contact("v6", "e11", K::VertexEdge)];
+        let level = Bounds::try_new(
+            [-0.2, 2.9, 14.9, -0.163, -4e-4, -1.4e-3],
+            [0.1, 3.4, 15.5, -0.162, 0.0, 2e-4],
+        )
+        .unwrap();
+        assert!(!problem.turns(&corner).may_hold(&level));
+        // Upright, the edge runs along the wall's back edge: not ruled out here.
+        let upright = Bounds::try_new(
+            [-0.2, 2.9, 14.9, -1e-3, -4e-4, -1.4e-3],
+            [0.1, 3.4, 15.5, 1e-3, 0.0, 2e-4],
+        )
+        .unwrap();
+        assert!(problem.turns(&corner).may_hold(&upright));
     }
 }
