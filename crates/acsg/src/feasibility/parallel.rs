@@ -52,11 +52,9 @@ pub(crate) fn crossing_held_in_a_face(
     assembled: DMat3,
     target: &[PrincipalContact],
 ) -> bool {
-    // Most candidates have no crossing: no rotation is sampled for them.
-    if !target.iter().any(|pc| pc.kind == ContactKind::EdgeEdge) {
+    let Some(families) = crossing_families(fixed, moving, bounds, assembled, target) else {
         return false;
-    }
-    let families = rotation_families(fixed, moving, bounds, assembled, target);
+    };
     let (centre, reach) = centre_and_reach(bounds, assembled);
     crossings(fixed, moving, target).any(|(a, b, da, db)| {
         // The angle between the edges, at every rotation of the bounds.
@@ -94,10 +92,9 @@ pub(crate) fn crossing_of_parallel_edges(
     assembled: DMat3,
     target: &[PrincipalContact],
 ) -> bool {
-    if !target.iter().any(|pc| pc.kind == ContactKind::EdgeEdge) {
+    let Some(families) = crossing_families(fixed, moving, bounds, assembled, target) else {
         return false;
-    }
-    let families = rotation_families(fixed, moving, bounds, assembled, target);
+    };
     crossings(fixed, moving, target).any(|(_, _, da, db)| {
         families.iter().any(|family| {
             family
@@ -106,6 +103,21 @@ pub(crate) fn crossing_of_parallel_edges(
                 .all(|r| da.cross(*r * db).length() <= PARALLEL_ROUNDOFF)
         })
     })
+}
+
+/// The rotation sets of a candidate with a crossing ([`rotation_families`]); `None`
+/// without one, as most candidates are: no rotation is sampled for them.
+fn crossing_families(
+    fixed: &Part,
+    moving: &Part,
+    bounds: &Bounds,
+    assembled: DMat3,
+    target: &[PrincipalContact],
+) -> Option<Vec<Family>> {
+    target
+        .iter()
+        .any(|pc| pc.kind == ContactKind::EdgeEdge)
+        .then(|| rotation_families(fixed, moving, bounds, assembled, target))
 }
 
 /// The crossings (e-e contacts) of `target`: the edges and their unit directions.
