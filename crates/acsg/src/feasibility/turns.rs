@@ -399,7 +399,7 @@ impl Problem<'_> {
                     out.avoid.push(turn(n, d, -flat, flat));
                 }
                 for d in reflex_directions(self.moving, b) {
-                    out.turns.push(turn(n, d, least, -least));
+                    out.turns.push(turn(n, d, -LEVER_SLACK, LEVER_SLACK));
                 }
                 for (d, slack) in within(self.moving, b) {
                     out.turns.push(turn(n, d, -slack, slack));
@@ -434,7 +434,7 @@ impl Problem<'_> {
                     out.avoid.push(turn(to_g(d), m, -flat, flat));
                 }
                 for d in reflex_directions(self.fixed, a) {
-                    out.turns.push(turn(to_g(d), m, least, -least));
+                    out.turns.push(turn(to_g(d), m, -LEVER_SLACK, LEVER_SLACK));
                 }
                 for (d, slack) in within(self.fixed, a) {
                     out.turns.push(turn(to_g(d), m, -slack, slack));
@@ -706,12 +706,14 @@ fn directions_leaving(part: &Part, v: VertexId) -> Vec<DVec3> {
 /// The edges' directions at a vertex whose negations its part also leaves it along:
 /// at a reflex corner of a face (an interior angle above 180°, the hole's rim corner
 /// in the block's top face) the face holds the corner's two edges' directions negated.
-/// Like the edges, those must not turn into a face the vertex touches, so each such
-/// direction `d` has `n · (R d)` between the least rise and its negation (one
-/// condition, so that the two sides are seen together: an empty range once the rise
-/// must be positive). With the edges they span the face's plane: a vertex at a reflex
-/// corner touches a face only with that face flush on its own, which no robust witness
-/// reads as a point contact.
+/// Neither may turn into a face the vertex touches by more than [`LEVER_SLACK`], so
+/// each such direction `d` has `n · (R d)` within ±`LEVER_SLACK` (one condition, so
+/// that the two sides are seen together): with the edges they span the face's plane,
+/// which must lie within that turn of the touched face. The last proofs allow the same
+/// turn, not the normals' margin: the touched face may cover the vertex's face only
+/// over a corner as narrow as the separation (the square peg's bottom corner just past
+/// the hole's rim corner, both corners on the other's face, the faces 1e-4 apart in
+/// turn: a robust witness), and there the dip stays within the contact tolerance.
 fn reflex_directions(part: &Part, e: ElementId) -> Vec<DVec3> {
     let ElementId::Vertex(v) = e else {
         return Vec::new();
@@ -929,7 +931,28 @@ mod tests {
         }
         let level = at([-0.001, 0.001], [-0.001, 0.001]);
         assert!(problem.turns(&corner).may_hold(&level));
-        assert!(!problem.strict_turns(&corner).may_hold(&level));
+        assert!(problem.strict_turns(&corner).may_hold(&level));
+        // A robust witness within that turn (the contact module's reading, re-checked
+        // here): the peg's bottom corner v0 just past the rim corner on the top face,
+        // the rim corner on the peg's bottom, the faces 1.1e-4 apart in turn. The last
+        // proofs keep it.
+        let witness = Pose::from_array([
+            -0.999768541671432,
+            -0.9994899367500578,
+            39.99466247871642,
+            0.00010199394019068386,
+            -4.627083730533374e-05,
+            0.0,
+        ]);
+        let mut both = vec![crate::testing::contact("f3", "v0", K::FaceVertex), corner[0]];
+        both.sort();
+        assert_eq!(problem.verify(&witness), Some(both.clone()));
+        let around = Bounds::try_new(
+            std::array::from_fn(|k| witness.to_array()[k] - 1e-9),
+            std::array::from_fn(|k| witness.to_array()[k] + 1e-9),
+        )
+        .unwrap();
+        assert!(problem.strict_turns(&both).may_hold(&around));
         // A convex corner of the peg on the block's top face keeps its freedom.
         let peg_corner = [crate::testing::contact("f3", "v0", K::FaceVertex)];
         assert!(problem.strict_turns(&peg_corner).may_hold(&level));
