@@ -301,23 +301,15 @@ impl Problem<'_> {
         if super::two_points::chord_off_the_boundary(self.fixed, self.moving, target) {
             return Err(Rule::ChordOffTheBoundary);
         }
-        if super::parallel::crossing_held_in_a_face(
-            self.fixed,
-            self.moving,
-            &self.bounds,
-            self.assembled.matrix3,
-            target,
-        ) {
-            return Err(Rule::CrossingInAFace);
-        }
-        if super::parallel::crossing_of_parallel_edges(
-            self.fixed,
-            self.moving,
-            &self.bounds,
-            self.assembled.matrix3,
-            target,
-        ) {
-            return Err(Rule::ParallelCrossing);
+        if let Some(crossings) =
+            super::parallel::Crossings::of(self.fixed, self.moving, &self.bounds, self.assembled.matrix3, target)
+        {
+            if crossings.held_in_a_face() {
+                return Err(Rule::CrossingInAFace);
+            }
+            if crossings.of_parallel_edges() {
+                return Err(Rule::ParallelCrossing);
+            }
         }
         let links = links(target).ok_or(Rule::Propagation)?;
         Ok(Conditions {

@@ -23,7 +23,7 @@
 //! about the edge ([`rotation_families`]). Each such one-angle set holds every
 //! rotation of the candidate and is decided the same way, at three angles of its turn.
 //! On any of these sets, two crossing edges that stay parallel rule the crossing out
-//! as well ([`crossing_of_parallel_edges`]).
+//! as well ([`Crossings::of_parallel_edges`]).
 
 use glam::{DMat3, DVec3};
 
@@ -41,83 +41,87 @@ pub(crate) const MIN_CROSSING_SINE: f64 = 0.05;
 /// round-off of turning a unit vector by three rotations.
 const PARALLEL_ROUNDOFF: f64 = 1e-14;
 
-/// Whether a crossing of `target` has one edge held parallel to a face at the other
-/// edge under every rotation the candidate allows (see the module's documentation):
-/// `true` proves that no pose in the bounds shows `target`. `assembled` is G's
-/// rotation.
-pub(crate) fn crossing_held_in_a_face(
-    fixed: &Part,
-    moving: &Part,
-    bounds: &Bounds,
-    assembled: DMat3,
-    target: &[PrincipalContact],
-) -> bool {
-    let Some(families) = crossing_families(fixed, moving, bounds, assembled, target) else {
-        return false;
-    };
-    let (centre, reach) = centre_and_reach(bounds, assembled);
-    crossings(fixed, moving, target).any(|(a, b, da, db)| {
-        // The angle between the edges, at every rotation of the bounds.
-        let bounded_sine = da.cross(centre * db).length() - reach;
-        families.iter().any(|family| {
-            if bounded_sine.max(family.least_sine(da, db)) < MIN_CROSSING_SINE {
-                return false;
-            }
-            // A face of the moving part at b, parallel to a; a face of the fixed part
-            // at a, parallel to b.
-            let moving_face = moving
-                .edge(b)
-                .faces
-                .iter()
-                .any(|&f| parallel_everywhere(&family.samples, da, moving.face(f).normal));
-            let fixed_face = fixed
-                .edge(a)
-                .faces
-                .iter()
-                .any(|&f| parallel_everywhere(&family.samples, fixed.face(f).normal, db));
-            moving_face || fixed_face
-        })
-    })
+/// A candidate's crossings with the rotation sets its rotations lie in, prepared once
+/// for the two tests of this module.
+pub(crate) struct Crossings<'a> {
+    fixed: &'a Part,
+    moving: &'a Part,
+    target: &'a [PrincipalContact],
+    families: Vec<Family>,
+    /// `G R` at the centre of the bounds' rotations and how far any of them moves a
+    /// unit vector from there ([`centre_and_reach`]).
+    centre: DMat3,
+    reach: f64,
 }
 
-/// Whether a crossing of `target` joins two edges that stay parallel under every
-/// rotation the candidate allows (a face flush on a face turns only about its normal;
-/// the bounds may pin the turns): `true` proves that no pose shows `target`. Two
-/// parallel edges that meet share a stretch of line, or touch at an end: they run
-/// together (e-e-t) or meet at a corner, and never cross at one point inside both.
-pub(crate) fn crossing_of_parallel_edges(
-    fixed: &Part,
-    moving: &Part,
-    bounds: &Bounds,
-    assembled: DMat3,
-    target: &[PrincipalContact],
-) -> bool {
-    let Some(families) = crossing_families(fixed, moving, bounds, assembled, target) else {
-        return false;
-    };
-    crossings(fixed, moving, target).any(|(_, _, da, db)| {
-        families.iter().any(|family| {
-            family
-                .samples
-                .iter()
-                .all(|r| da.cross(*r * db).length() <= PARALLEL_ROUNDOFF)
+impl<'a> Crossings<'a> {
+    /// The crossings of `target` (`assembled` is G's rotation); `None` without one, as
+    /// most candidates are: no rotation is sampled for them.
+    pub(crate) fn of(
+        fixed: &'a Part,
+        moving: &'a Part,
+        bounds: &Bounds,
+        assembled: DMat3,
+        target: &'a [PrincipalContact],
+    ) -> Option<Crossings<'a>> {
+        if !target.iter().any(|pc| pc.kind == ContactKind::EdgeEdge) {
+            return None;
+        }
+        let (centre, reach) = centre_and_reach(bounds, assembled);
+        Some(Crossings {
+            fixed,
+            moving,
+            target,
+            families: rotation_families(fixed, moving, bounds, assembled, target),
+            centre,
+            reach,
         })
-    })
-}
+    }
 
-/// The rotation sets of a candidate with a crossing ([`rotation_families`]); `None`
-/// without one, as most candidates are: no rotation is sampled for them.
-fn crossing_families(
-    fixed: &Part,
-    moving: &Part,
-    bounds: &Bounds,
-    assembled: DMat3,
-    target: &[PrincipalContact],
-) -> Option<Vec<Family>> {
-    target
-        .iter()
-        .any(|pc| pc.kind == ContactKind::EdgeEdge)
-        .then(|| rotation_families(fixed, moving, bounds, assembled, target))
+    /// Whether a crossing has one edge held parallel to a face at the other edge under
+    /// every rotation the candidate allows (see the module's documentation): `true`
+    /// proves that no pose in the bounds shows the candidate.
+    pub(crate) fn held_in_a_face(&self) -> bool {
+        let (fixed, moving) = (self.fixed, self.moving);
+        crossings(fixed, moving, self.target).any(|(a, b, da, db)| {
+            // The angle between the edges, at every rotation of the bounds.
+            let bounded_sine = da.cross(self.centre * db).length() - self.reach;
+            self.families.iter().any(|family| {
+                if bounded_sine.max(family.least_sine(da, db)) < MIN_CROSSING_SINE {
+                    return false;
+                }
+                // A face of the moving part at b, parallel to a; a face of the fixed
+                // part at a, parallel to b.
+                let moving_face = moving
+                    .edge(b)
+                    .faces
+                    .iter()
+                    .any(|&f| parallel_everywhere(&family.samples, da, moving.face(f).normal));
+                let fixed_face = fixed
+                    .edge(a)
+                    .faces
+                    .iter()
+                    .any(|&f| parallel_everywhere(&family.samples, fixed.face(f).normal, db));
+                moving_face || fixed_face
+            })
+        })
+    }
+
+    /// Whether a crossing joins two edges that stay parallel under every rotation the
+    /// candidate allows (a face flush on a face turns only about its normal; the
+    /// bounds may pin the turns): `true` proves that no pose shows the candidate. Two
+    /// parallel edges that meet share a stretch of line, or touch at an end: they run
+    /// together (e-e-t) or meet at a corner, and never cross at one point inside both.
+    pub(crate) fn of_parallel_edges(&self) -> bool {
+        crossings(self.fixed, self.moving, self.target).any(|(_, _, da, db)| {
+            self.families.iter().any(|family| {
+                family
+                    .samples
+                    .iter()
+                    .all(|r| da.cross(*r * db).length() <= PARALLEL_ROUNDOFF)
+            })
+        })
+    }
 }
 
 /// The crossings (e-e contacts) of `target`: the edges and their unit directions.
@@ -268,6 +272,14 @@ mod tests {
     use super::*;
     use crate::testing::{contact, fixture};
 
+    fn held(fixed: &Part, moving: &Part, bounds: &Bounds, at: DMat3, target: &[PrincipalContact]) -> bool {
+        Crossings::of(fixed, moving, bounds, at, target).is_some_and(|c| c.held_in_a_face())
+    }
+
+    fn parallel(fixed: &Part, moving: &Part, bounds: &Bounds, at: DMat3, target: &[PrincipalContact]) -> bool {
+        Crossings::of(fixed, moving, bounds, at, target).is_some_and(|c| c.of_parallel_edges())
+    }
+
     /// The plain hole's rim edge along y (x = 35) and the peg's corner edges: with the
     /// yaw pinned, the peg's side faces facing ±x keep their normals in the xz plane.
     #[test]
@@ -276,16 +288,10 @@ mod tests {
         let d = 1f64.to_radians();
         let pinned = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
         let crossing = [contact("e11", "e0", ContactKind::EdgeEdge)];
-        assert!(crossing_held_in_a_face(
-            &hole,
-            &peg,
-            &pinned,
-            DMat3::IDENTITY,
-            &crossing
-        ));
+        assert!(held(&hole, &peg, &pinned, DMat3::IDENTITY, &crossing));
         // With the yaw free the face turns off the rim edge's direction.
         let free = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, -d], [1.0, 1.0, 45.0, d, d, d]).unwrap();
-        assert!(!crossing_held_in_a_face(&hole, &peg, &free, DMat3::IDENTITY, &crossing));
+        assert!(!held(&hole, &peg, &free, DMat3::IDENTITY, &crossing));
     }
 
     /// The built-in example's box with its +x face flush on the wall (f-f f5/f5) turns
@@ -302,18 +308,18 @@ mod tests {
         let mut across = vec![flush, contact("e7", "e1", ContactKind::EdgeEdge)];
         across.sort();
         let at = DMat3::IDENTITY;
-        assert!(crossing_of_parallel_edges(&fixed, &moving, &bounds, at, &along));
-        assert!(!crossing_held_in_a_face(&fixed, &moving, &bounds, at, &along));
-        assert!(crossing_held_in_a_face(&fixed, &moving, &bounds, at, &across));
-        assert!(!crossing_of_parallel_edges(&fixed, &moving, &bounds, at, &across));
+        assert!(parallel(&fixed, &moving, &bounds, at, &along));
+        assert!(!held(&fixed, &moving, &bounds, at, &along));
+        assert!(held(&fixed, &moving, &bounds, at, &across));
+        assert!(!parallel(&fixed, &moving, &bounds, at, &across));
         for alone in [&along[1..], &across[1..]] {
-            assert!(!crossing_of_parallel_edges(&fixed, &moving, &bounds, at, alone));
-            assert!(!crossing_held_in_a_face(&fixed, &moving, &bounds, at, alone));
+            assert!(!parallel(&fixed, &moving, &bounds, at, alone));
+            assert!(!held(&fixed, &moving, &bounds, at, alone));
         }
         // An assembled pose turns the family with the parts: a quarter turn about the
         // wall's normal keeps the face flush and e6 still runs along x.
         let quarter = DMat3::from_rotation_x(std::f64::consts::FRAC_PI_2);
-        assert!(crossing_of_parallel_edges(&fixed, &moving, &bounds, quarter, &along));
+        assert!(parallel(&fixed, &moving, &bounds, quarter, &along));
     }
 
     /// Independently of the rule: poses built by hand with the box's +x face on the
