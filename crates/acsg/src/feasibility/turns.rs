@@ -172,7 +172,7 @@ impl Turns {
         let r = rotation_enclosure(b);
         self.turns.iter().all(|t| {
             let v = value(&r, t.n, t.d);
-            t.lo <= t.hi && v.hi >= t.lo && v.lo <= t.hi
+            v.hi >= t.lo && v.lo <= t.hi
         }) && self.avoid.iter().all(|t| {
             let v = value(&r, t.n, t.d);
             v.lo <= t.lo || v.hi >= t.hi
@@ -901,10 +901,11 @@ mod tests {
     }
 
     #[test]
-    fn a_rim_corner_touches_a_face_only_flush_with_the_rim() {
+    fn a_rim_corner_touches_a_face_only_nearly_flush_with_the_rim() {
         // The plain hole's rim corner v5 (35, 35, 50): the top face holds every
         // direction around it but the hole's quadrant, so the peg's bottom face f2
-        // through it either dips into the top face on one side or lies flush on it.
+        // through it either dips into the top face on one side or lies within
+        // LEVER_SLACK of flush on it.
         // Its edges alone (+x, +y along the rim, -z down the hole's wall) allow the
         // tilts that lift both rim directions.
         let (a, b) = (
