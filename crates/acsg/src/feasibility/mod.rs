@@ -30,6 +30,7 @@ mod interval;
 mod lp;
 mod normals;
 mod parallel;
+mod pierce;
 mod prover;
 mod residual;
 mod slices;

@@ -689,6 +689,11 @@ impl<'a> Prover<'a> {
         Some(())
     }
 
+    /// Maps a point of the fixed part's frame into G's frame.
+    pub fn fixed_point(&self, p: DVec3) -> DVec3 {
+        self.to_g.transform_point3(p)
+    }
+
     /// Maps a direction of the fixed part's frame into G's frame.
     pub fn fixed_direction(&self, d: DVec3) -> DVec3 {
         self.to_g.transform_vector3(d)

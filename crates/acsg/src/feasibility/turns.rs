@@ -14,6 +14,7 @@ use glam::DVec3;
 
 use super::Problem;
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
+use super::pierce::{Crossing, Pierce};
 use super::prover::{face_untouched, implied};
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::Aabb;
@@ -71,6 +72,12 @@ struct Flush {
 /// (half the separation) to the contact point. Four times their ratio, for safety.
 const LEVER_SLACK: f64 = 4.0 * CONTACT_REL / (0.5 * SEPARATION_REL);
 
+/// How deep (relative to the parts' size) an edge must certainly sink into the other
+/// part for [`Pierce`] to exclude a box: the contact tolerance, which a witness may
+/// penetrate by, plus as much again for the crossing's own tolerance, and three times
+/// more for safety.
+const PIERCE_DEPTH_REL: f64 = 5.0 * CONTACT_REL;
+
 /// Slabs tried from each end of an angle's range by [`Turns::shave`], at most.
 const SHAVE_STEPS: usize = 24;
 /// The thinnest slab [`Turns::shave`] tries, as a share of what is left.
@@ -87,6 +94,7 @@ pub(crate) struct Turns {
     flush: Vec<Flush>,
     lying: Vec<Lying>,
     outside: Vec<Outside>,
+    pierce: Vec<Pierce>,
 }
 
 /// A direction of one part at a vertex held in an edge of the other that must not
@@ -166,6 +174,30 @@ impl Wedge {
 }
 
 impl Turns {
+    /// Gives each ray's rates the ranges the plain conditions keep them in: a rate
+    /// `n · (R d)` is the same value as a condition's on the same pair (or on both
+    /// negated; negated once, the range turns over), and a pose outside that range is
+    /// excluded anyway. Interval arithmetic alone sees two conditions on one value
+    /// apart, so a box straddling both would stay open.
+    fn know_pierced(&mut self) {
+        let same = |a: DVec3, b: DVec3| a.distance_squared(b) <= 1e-20;
+        for pierce in &mut self.pierce {
+            let values: Vec<(DVec3, DVec3)> = pierce.values().collect();
+            for (i, (n, d)) in values.into_iter().enumerate() {
+                if (n.length() - 1.0).abs() > 1e-9 || (d.length() - 1.0).abs() > 1e-9 {
+                    continue;
+                }
+                for t in &self.turns {
+                    if (same(t.n, n) && same(t.d, d)) || (same(t.n, -n) && same(t.d, -d)) {
+                        pierce.know(i, Interval::new(t.lo, t.hi));
+                    } else if (same(t.n, -n) && same(t.d, d)) || (same(t.n, n) && same(t.d, -d)) {
+                        pierce.know(i, Interval::new(-t.hi, -t.lo));
+                    }
+                }
+            }
+        }
+    }
+
     /// Whether some rotation in the box may meet every condition (`false` proves that
     /// none does).
     pub fn may_hold(&self, b: &Bounds) -> bool {
@@ -198,6 +230,16 @@ impl Turns {
                 });
                 !flush || f.side.is_some_and(|(u, w)| value(&r, u, w).hi <= 0.0)
             })
+            && !self.pierce.iter().any(|p| p.certain(&r, b))
+    }
+
+    /// The same conditions without the rays of crossing edges ([`Pierce`]).
+    #[cfg(test)]
+    pub(crate) fn without_pierce(&self) -> Turns {
+        Turns {
+            pierce: Vec::new(),
+            ..self.clone()
+        }
     }
 
     /// Whether there is no condition at all (every rotation meets them).
@@ -209,6 +251,7 @@ impl Turns {
             && self.flush.is_empty()
             && self.lying.is_empty()
             && self.outside.is_empty()
+            && self.pierce.is_empty()
     }
 
     /// The box with its angle ranges cut down to where the conditions may hold
@@ -331,6 +374,7 @@ impl Problem<'_> {
         for pc in target {
             self.add_turns(pc, target, least, &mut turns);
         }
+        turns.know_pierced();
         turns
     }
 
@@ -514,6 +558,21 @@ impl Problem<'_> {
                     slack: tilt(le.min(lx)).max(LEVER_SLACK),
                     normal: ends_apart.then_some(components),
                 });
+                // And where a face dips past that plane, the other edge runs on into
+                // the face's part: as deep as the part's faces allow over the edge's
+                // length, not only up to the margin.
+                let crossing = Crossing {
+                    fixed: self.fixed,
+                    moving: self.moving,
+                    fixed_edge: e,
+                    moving_edge: x,
+                    to_g: &|p| self.prover.fixed_point(p),
+                    to_g_direction: &to_g,
+                    margin: rise,
+                    near: scaled(CONTACT_REL, self.scale),
+                    deep: scaled(PIERCE_DEPTH_REL, self.scale),
+                };
+                out.pierce.extend(crossing.rays());
             }
             (a, b) => {
                 self.add_lying(pc, target, rise, out);

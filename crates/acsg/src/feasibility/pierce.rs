@@ -1,0 +1,333 @@
+//! Two crossing edges, each run on from the crossing: one that enters a convex piece of
+//! the other part there sinks into it, at a depth that the piece's own faces bound.
+//!
+//! The wedge test ([`super::turns`]) allows a face to dip past the plane of the two
+//! edges by a slack sized for the worst case, a crossing within the prover's margin of
+//! an edge's end. That slack hides second-order conflicts: the box's bottom edge
+//! crossing the step's back edge while the box's top edge lies on the wall is
+//! infeasible only because the step's edge then runs on into the box, a sine of the
+//! tilt deep per millimetre, for the tens of millimetres until the step's edge ends.
+//! This test follows the ray itself: its depth inside the piece at a distance `s` from
+//! the crossing is at least `min_F (g_F + s r_F)` over the piece's faces `F` (`g_F` how
+//! far the crossing is from `F`'s plane at least, `r_F` the rate the ray moves into
+//! `F`'s side), as long as `s` stays within the ray's edge.
+
+use glam::DVec3;
+
+use super::interval::{Interval, IntervalMat};
+use crate::model::{EdgeId, Part};
+use crate::pose::Bounds;
+
+/// One edge's ray from a crossing with an edge of the other part, against one convex
+/// piece of that part holding the other edge: excluded when the ray certainly sinks
+/// deeper than `deep` into it within its reach.
+#[derive(Clone, Debug)]
+pub(crate) struct Pierce {
+    /// Per face of the piece: the value `n · (R d)` of the rate the ray moves into its
+    /// side (its inner normal against the ray's direction), the range that value is
+    /// known to keep (other conditions of the target on the same value), and how far the
+    /// crossing is from the face's plane at least.
+    faces: Vec<PiercedFace>,
+    /// How far the ray runs along its own edge at least.
+    reach: Reach,
+    /// The least ray length, whatever the box: the crossing is the prover's margin
+    /// inside the ray's edge.
+    least_reach: f64,
+    /// A sinking deeper than this penetrates beyond the contact tolerance.
+    deep: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct PiercedFace {
+    n: DVec3,
+    d: DVec3,
+    known: Interval,
+    gap: f64,
+}
+
+/// The distance from the crossing to the end of the ray's edge, over a box.
+#[derive(Clone, Copy, Debug)]
+enum Reach {
+    /// A fixed edge's ray, direction `d` (G's frame), ending at `end` (its end's
+    /// position along `d`), from a crossing `R q + t` with `q` on the moving edge
+    /// between `points`.
+    Fixed { d: DVec3, end: f64, points: [DVec3; 2] },
+    /// A moving edge's ray, direction `R d`, ending at `end` (its end's position along
+    /// `d` in the moving frame), from a crossing `c` on the fixed edge between `points`
+    /// (G's frame): the crossing is at `R^T (c - t)` there.
+    Moving { d: DVec3, end: f64, points: [DVec3; 2] },
+}
+
+/// `n · (R d)` over a rotation enclosure.
+fn value(r: &IntervalMat, n: DVec3, d: DVec3) -> Interval {
+    let turned = rotated(r, d);
+    (0..3).fold(Interval::point(0.0), |acc, i| {
+        acc.add(turned[i].mul(Interval::point(n[i])))
+    })
+}
+
+/// `R d` over a rotation enclosure.
+fn rotated(r: &IntervalMat, d: DVec3) -> [Interval; 3] {
+    std::array::from_fn(|i| {
+        (0..3).fold(Interval::point(0.0), |acc, j| {
+            acc.add(r[i][j].mul(Interval::point(d[j])))
+        })
+    })
+}
+
+/// The translation part of a box, per axis.
+fn translation(b: &Bounds) -> [Interval; 3] {
+    let (lo, hi) = (b.min.to_array(), b.max.to_array());
+    std::array::from_fn(|k| Interval::new(lo[k], hi[k]))
+}
+
+impl Reach {
+    /// The least distance over the box (may be negative: the box allows no crossing
+    /// with that much ray).
+    fn least(&self, r: &IntervalMat, b: &Bounds) -> f64 {
+        let t = translation(b);
+        match *self {
+            Reach::Fixed { d, end, points } => {
+                // (w − R q − t) · d
+                let along_t = (0..3).fold(Interval::point(0.0), |acc, k| acc.add(t[k].mul(Interval::point(d[k]))));
+                points
+                    .iter()
+                    .map(|&q| end - value(r, d, q).hi - along_t.hi)
+                    .fold(f64::INFINITY, f64::min)
+            }
+            Reach::Moving { d, end, points } => {
+                // w · d − (c − t) · (R d)
+                let turned = rotated(r, d);
+                points
+                    .iter()
+                    .map(|&c| {
+                        let along = (0..3).fold(Interval::point(0.0), |acc, k| {
+                            acc.add(Interval::point(c[k]).sub(t[k]).mul(turned[k]))
+                        });
+                        end - along.hi
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+}
+
+/// Ray lengths tried, as halvings of the reach: the depth is a concave function of the
+/// length that is not negative at the crossing, so one of them comes within half of
+/// its largest value.
+const HALVINGS: i32 = 48;
+
+impl Pierce {
+    /// Whether every pose of the box with these rotations (`r`) sinks the ray deeper
+    /// than the tolerance into the piece.
+    pub fn certain(&self, r: &IntervalMat, b: &Bounds) -> bool {
+        let rates: Vec<(f64, f64)> = self
+            .faces
+            .iter()
+            .map(|f| (f.gap, value(r, f.n, f.d).meet(f.known).lo))
+            .collect();
+        if rates.iter().any(|&(_, rate)| rate.is_nan()) {
+            return false;
+        }
+        let reach = self.reach.least(r, b).max(self.least_reach);
+        let depth = |s: f64| {
+            rates
+                .iter()
+                .map(|&(gap, rate)| gap + s * rate)
+                .fold(f64::INFINITY, f64::min)
+        };
+        (0..=HALVINGS).any(|k| depth(reach * 2f64.powi(-k)) > self.deep)
+    }
+
+    /// The values whose ranges the target's other conditions narrow, so that they can
+    /// be recorded against them ([`Pierce::know`]).
+    pub fn values(&self) -> impl Iterator<Item = (DVec3, DVec3)> + '_ {
+        self.faces.iter().map(|f| (f.n, f.d))
+    }
+
+    /// Records, for the `i`-th face's value, a range it keeps at every pose that meets
+    /// the target's other conditions.
+    pub fn know(&mut self, i: usize, range: Interval) {
+        let f = &mut self.faces[i];
+        f.known = f.known.meet(range);
+    }
+}
+
+/// What a crossing of a fixed and a moving edge needs to build its rays.
+pub(crate) struct Crossing<'a> {
+    pub fixed: &'a Part,
+    pub moving: &'a Part,
+    pub fixed_edge: EdgeId,
+    pub moving_edge: EdgeId,
+    /// Maps a point of the fixed part's frame into G's frame.
+    pub to_g: &'a dyn Fn(DVec3) -> DVec3,
+    /// Maps a direction of the fixed part's frame into G's frame.
+    pub to_g_direction: &'a dyn Fn(DVec3) -> DVec3,
+    /// How far inside both edges the crossing is at least (the prover's margin).
+    pub margin: f64,
+    /// How near a piece's boundary an edge's ends must be for the piece to hold it.
+    pub near: f64,
+    /// A sinking deeper than this penetrates beyond the contact tolerance.
+    pub deep: f64,
+}
+
+impl Crossing<'_> {
+    /// Each edge's ray, either way, against each convex piece of the other part that
+    /// holds the other edge.
+    pub fn rays(&self) -> Vec<Pierce> {
+        let mut out = Vec::new();
+        let [a0, a1] = self.fixed.edge_points(self.fixed_edge);
+        let [b0, b1] = self.moving.edge_points(self.moving_edge);
+        let (ga0, ga1) = ((self.to_g)(a0), (self.to_g)(a1));
+        let inner = |p: DVec3, q: DVec3| {
+            let u = (q - p).normalize();
+            [p + self.margin * u, q - self.margin * u]
+        };
+        // The fixed edge's rays into the moving part's pieces holding the moving edge.
+        let crossing_on_b = inner(b0, b1);
+        let da = (ga1 - ga0).normalize();
+        for piece in pieces_holding(self.moving, b0, b1, self.near) {
+            for (d, end) in [(da, ga1), (-da, ga0)] {
+                let faces = piece
+                    .iter()
+                    .map(|&(normal, offset)| PiercedFace {
+                        n: d,
+                        d: -normal,
+                        known: Interval::new(f64::NEG_INFINITY, f64::INFINITY),
+                        gap: crossing_on_b
+                            .iter()
+                            .map(|&q| offset - normal.dot(q))
+                            .fold(f64::INFINITY, f64::min)
+                            .max(0.0),
+                    })
+                    .collect();
+                out.push(Pierce {
+                    faces,
+                    reach: Reach::Fixed {
+                        d,
+                        end: end.dot(d),
+                        points: crossing_on_b,
+                    },
+                    least_reach: self.margin,
+                    deep: self.deep,
+                });
+            }
+        }
+        // The moving edge's rays into the fixed part's pieces holding the fixed edge.
+        let crossing_on_a = inner(a0, a1);
+        let crossing_on_a_g = crossing_on_a.map(|p| (self.to_g)(p));
+        let db = (b1 - b0).normalize();
+        for piece in pieces_holding(self.fixed, a0, a1, self.near) {
+            for (d, end) in [(db, b1), (-db, b0)] {
+                let faces = piece
+                    .iter()
+                    .map(|&(normal, offset)| PiercedFace {
+                        n: -(self.to_g_direction)(normal),
+                        d,
+                        known: Interval::new(f64::NEG_INFINITY, f64::INFINITY),
+                        gap: crossing_on_a
+                            .iter()
+                            .map(|&q| offset - normal.dot(q))
+                            .fold(f64::INFINITY, f64::min)
+                            .max(0.0),
+                    })
+                    .collect();
+                out.push(Pierce {
+                    faces,
+                    reach: Reach::Moving {
+                        d,
+                        end: end.dot(d),
+                        points: crossing_on_a_g,
+                    },
+                    least_reach: self.margin,
+                    deep: self.deep,
+                });
+            }
+        }
+        out
+    }
+}
+
+/// The faces (outer normal, offset) of each convex piece of a part whose boundary holds
+/// the segment `p`–`q` (both ends within `near` of it).
+fn pieces_holding(part: &Part, p: DVec3, q: DVec3, near: f64) -> Vec<Vec<(DVec3, f64)>> {
+    part.convex_pieces()
+        .iter()
+        .filter(|piece| piece.outside_distance(p) <= near && piece.outside_distance(q) <= near)
+        .map(|piece| piece.faces().iter().map(|f| (f.normal, f.offset)).collect())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::contact::{ContactKind as K, PrincipalContact};
+    use crate::feasibility::Problem;
+    use crate::pose::{Bounds, Pose};
+    use crate::tolerance::{CONTACT_REL, scaled};
+    use glam::DVec3;
+
+    /// The L-block's step back edge e7 crossed by the box's bottom edge e1 at
+    /// `y_b` along it, the box turned by `rx` and `ry` (and the `rz` that keeps its
+    /// bottom edges e1 and e9 parallel to the wall), `gap` short of the wall.
+    fn crossing_pose(rx: f64, ry: f64, y_b: f64, gap: f64) -> Pose {
+        // The rz where R y_B has no x component, by bisection (it is small).
+        let x_of_e1 = |rz: f64| (Pose::from_array([0.0, 0.0, 0.0, rx, ry, rz]).rotation() * DVec3::Y).x;
+        let (mut lo, mut hi) = (-0.5, 0.5);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if (x_of_e1(mid) > 0.0) == (x_of_e1(lo) > 0.0) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let rz = 0.5 * (lo + hi);
+        let turned = Pose::from_array([0.0, 0.0, 0.0, rx, ry, rz]).rotation();
+        let side = turned * DVec3::new(150.0, 10.0, 50.0);
+        let on_e1 = turned * DVec3::new(50.0, y_b, 50.0);
+        Pose::from_array([150.0 - gap - side.x, 100.0 - on_e1.y, 50.0 - on_e1.z, rx, ry, rz])
+    }
+
+    #[test]
+    fn the_steps_edge_runs_on_into_the_box_tilted_past_the_plane_of_the_crossing() {
+        // The box tilted back about x by 0.2 rad, its bottom edge e1 crossing the
+        // step's back edge e7, and tilted 1e-3 rad about y: the box's bottom face dips
+        // past the plane through the two edges, within the wedge test's slack (8e-3),
+        // and the step's edge runs on into the box under it for 100 mm.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let target = [crate::testing::contact("e7", "e1", K::EdgeEdge)];
+        let turns = problem.turns(&target);
+        for (ry, deeper_than) in [(1e-3, 1e-2), (1e-7, scaled(5.0 * CONTACT_REL, problem.scale))] {
+            let pose = crossing_pose(-0.2, ry, 88.0, 1.0);
+            let placed = problem.placement(&pose);
+            // The contact module reads the crossing there, and the parts penetrate.
+            assert_eq!(problem.scene().state(&placed, CONTACT_REL).contacts, target);
+            let depth = problem.scene().penetration_depth(&placed);
+            assert!(depth > deeper_than, "tilted {ry}: depth {depth}");
+            let at = Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
+            assert!(!turns.may_hold(&at), "tilted {ry}");
+            assert!(
+                turns.without_pierce().may_hold(&at),
+                "the rays exclude it, not the rest"
+            );
+        }
+    }
+
+    #[test]
+    fn a_crossing_the_rays_leave_outside_stays_open() {
+        // The same crossing tilted the other way about y: the step's edge runs on under
+        // the box's bottom face, and the pose is a witness of the crossing (checked by
+        // the contact module). Neither the decisions' nor the last proofs' conditions
+        // exclude it.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let pose = crossing_pose(-0.2, -0.01, 88.0, 1.0);
+        let state = problem.clean_state(&pose).expect("a witness");
+        let crossing: PrincipalContact = crate::testing::contact("e7", "e1", K::EdgeEdge);
+        assert_eq!(state, [crossing]);
+        let at = Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
+        assert!(problem.turns(&state).may_hold(&at));
+        assert!(problem.strict_turns(&state).may_hold(&at));
+    }
+}
