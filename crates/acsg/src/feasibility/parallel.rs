@@ -28,12 +28,13 @@
 //! An edge lying in a face holds `Y` parallel to `f` too, to the tolerance rather than
 //! exactly, when it lies along `Y` and the face is normal to `f` (the box's upright
 //! edge on the L-block's wall keeps the step's back edge parallel to the box's bottom
-//! face, whatever the tilt): the contact holds both its ends within the tolerance of
-//! the face's plane, so `Y` strays from `f`'s plane by at most twice the tolerance over
-//! that edge's length per unit run. Over the separation from the crossing that is a
-//! thousandth of the tolerance at most ([`pinned_pairs`] counts only edges that long):
-//! a checker whose tolerance is that much above the contact tolerance, well inside the
-//! range every robust witness must agree over, reads `Y` lying in `f` there.
+//! face, whatever the tilt): the contact holds both that edge's ends within the
+//! tolerance of the face's plane, so `Y` strays from `f`'s plane by at most twice the
+//! tolerance times its length over that edge's. [`pinned_pairs`] counts only edges at
+//! least half as long as `Y`, so `Y` lies within five times the tolerance of `f`'s
+//! plane from end to end: a checker with that tolerance, inside the range every robust
+//! witness must agree over, reads `Y` lying in `f`, which it enters past the crossing
+//! by five times that within the separation (the sine above [`MIN_CROSSING_SINE`]).
 
 use glam::{DMat3, DVec3};
 
@@ -51,10 +52,6 @@ pub(crate) const MIN_CROSSING_SINE: f64 = 0.05;
 /// round-off of turning a unit vector by three rotations.
 const PARALLEL_ROUNDOFF: f64 = 1e-14;
 
-/// The least length, relative to the parts' size, of an edge lying in a face for
-/// [`pinned_pairs`] to count it.
-const PINNING_LENGTH_REL: f64 = 1e-3;
-
 /// A candidate's crossings with the rotation sets its rotations lie in, prepared once
 /// for the two tests of this module.
 pub(crate) struct Crossings<'a> {
@@ -63,8 +60,9 @@ pub(crate) struct Crossings<'a> {
     target: &'a [PrincipalContact],
     families: Vec<Family>,
     /// The pairs `(u, v)` whose value `u · (G R v)` the candidate's own contacts hold
-    /// at zero to the contact tolerance ([`pinned_pairs`]).
-    pinned: Vec<(DVec3, DVec3)>,
+    /// at zero to the contact tolerance, with the length of the edge that holds them
+    /// ([`pinned_pairs`]).
+    pinned: Vec<(DVec3, DVec3, f64)>,
     /// `G R` at the centre of the bounds' rotations and how far any of them moves a
     /// unit vector from there ([`centre_and_reach`]).
     centre: DMat3,
@@ -104,10 +102,23 @@ impl<'a> Crossings<'a> {
         crossings(fixed, moving, self.target).any(|(a, b, da, db)| {
             // The angle between the edges, at every rotation of the bounds.
             let bounded_sine = da.cross(self.centre * db).length() - self.reach;
-            // A face at one edge that another contact holds parallel to the other edge.
-            let pinned = |u: DVec3, v: DVec3| self.pinned.iter().any(|&(p, q)| on_one_line(p, u) && on_one_line(q, v));
-            let pinned_face = moving.edge(b).faces.iter().any(|&f| pinned(da, moving.face(f).normal))
-                || fixed.edge(a).faces.iter().any(|&f| pinned(fixed.face(f).normal, db));
+            // A face at one edge that another contact holds parallel to the other edge,
+            // by an edge at least half as long as that one.
+            let pinned = |u: DVec3, v: DVec3, along: f64| {
+                self.pinned
+                    .iter()
+                    .any(|&(p, q, holder)| on_one_line(p, u) && on_one_line(q, v) && 2.0 * holder >= along)
+            };
+            let pinned_face = moving
+                .edge(b)
+                .faces
+                .iter()
+                .any(|&f| pinned(da, moving.face(f).normal, length(fixed, a)))
+                || fixed
+                    .edge(a)
+                    .faces
+                    .iter()
+                    .any(|&f| pinned(fixed.face(f).normal, db, length(moving, b)));
             if pinned_face && bounded_sine >= MIN_CROSSING_SINE {
                 return true;
             }
@@ -248,31 +259,30 @@ fn rotation_families(
     families
 }
 
-/// The pairs `(u, v)` whose value `u · (G R v)` a contact of `target` holds at zero:
-/// an edge lying in a face (f-e: the face's normal and the edge; e-f: the edge and the
-/// face's normal). The contact holds both ends of the edge within the tolerance of the
-/// plane, so the value is at most twice the tolerance over the edge's length; only
-/// edges at least [`PINNING_LENGTH_REL`] of the parts' size long count, so that over
-/// the separation a direction held so strays from the plane by a thousandth of the
-/// tolerance at most.
-fn pinned_pairs(fixed: &Part, moving: &Part, target: &[PrincipalContact]) -> Vec<(DVec3, DVec3)> {
-    let long = |part: &Part, x: EdgeId, other: &Part| {
-        let [p, q] = part.edge_points(x);
-        let size = part.bounds().diagonal().max(other.bounds().diagonal());
-        p.distance(q) >= PINNING_LENGTH_REL * size
-    };
+/// The pairs `(u, v)` whose value `u · (G R v)` a contact of `target` holds at zero,
+/// each with the length of the edge that holds it: an edge lying in a face (f-e: the
+/// face's normal and the edge; e-f: the edge and the face's normal). The contact holds
+/// both ends of the edge within the tolerance of the plane, so the value is at most
+/// twice the tolerance over the edge's length.
+fn pinned_pairs(fixed: &Part, moving: &Part, target: &[PrincipalContact]) -> Vec<(DVec3, DVec3, f64)> {
     target
         .iter()
         .filter_map(|pc| match (pc.kind, pc.fixed, pc.moving) {
-            (ContactKind::FaceEdge, ElementId::Face(f), ElementId::Edge(x)) if long(moving, x, fixed) => {
-                Some((fixed.face(f).normal, direction(moving, x)))
+            (ContactKind::FaceEdge, ElementId::Face(f), ElementId::Edge(x)) => {
+                Some((fixed.face(f).normal, direction(moving, x), length(moving, x)))
             }
-            (ContactKind::EdgeFace, ElementId::Edge(e), ElementId::Face(g)) if long(fixed, e, moving) => {
-                Some((direction(fixed, e), moving.face(g).normal))
+            (ContactKind::EdgeFace, ElementId::Edge(e), ElementId::Face(g)) => {
+                Some((direction(fixed, e), moving.face(g).normal, length(fixed, e)))
             }
             _ => None,
         })
         .collect()
+}
+
+/// The length of an edge.
+fn length(part: &Part, x: EdgeId) -> f64 {
+    let [p, q] = part.edge_points(x);
+    p.distance(q)
 }
 
 /// Whether two unit vectors lie on one line (either way).
