@@ -188,21 +188,8 @@ impl Crossing<'_> {
         let da = (ga1 - ga0).normalize();
         for piece in pieces_holding(self.moving, b0, b1, self.near) {
             for (d, end) in [(da, ga1), (-da, ga0)] {
-                let faces = piece
-                    .iter()
-                    .map(|&(normal, offset)| PiercedFace {
-                        n: d,
-                        d: -normal,
-                        known: Interval::new(f64::NEG_INFINITY, f64::INFINITY),
-                        gap: crossing_on_b
-                            .iter()
-                            .map(|&q| offset - normal.dot(q))
-                            .fold(f64::INFINITY, f64::min)
-                            .max(0.0),
-                    })
-                    .collect();
                 out.push(Pierce {
-                    faces,
+                    faces: pierced_faces(&piece, crossing_on_b, |normal| (d, -normal)),
                     reach: Reach::Fixed {
                         d,
                         end: end.dot(d),
@@ -219,21 +206,8 @@ impl Crossing<'_> {
         let db = (b1 - b0).normalize();
         for piece in pieces_holding(self.fixed, a0, a1, self.near) {
             for (d, end) in [(db, b1), (-db, b0)] {
-                let faces = piece
-                    .iter()
-                    .map(|&(normal, offset)| PiercedFace {
-                        n: -(self.to_g_direction)(normal),
-                        d,
-                        known: Interval::new(f64::NEG_INFINITY, f64::INFINITY),
-                        gap: crossing_on_a
-                            .iter()
-                            .map(|&q| offset - normal.dot(q))
-                            .fold(f64::INFINITY, f64::min)
-                            .max(0.0),
-                    })
-                    .collect();
                 out.push(Pierce {
-                    faces,
+                    faces: pierced_faces(&piece, crossing_on_a, |normal| (-(self.to_g_direction)(normal), d)),
                     reach: Reach::Moving {
                         d,
                         end: end.dot(d),
@@ -246,6 +220,32 @@ impl Crossing<'_> {
         }
         out
     }
+}
+
+/// A piece's faces against a ray from a crossing between `crossing` (in the piece's
+/// frame): `rate` gives the value pair of the ray's rate into a face's side from its
+/// outer normal; the gap is the crossing's least distance inside the face's plane.
+fn pierced_faces(
+    piece: &[(DVec3, f64)],
+    crossing: [DVec3; 2],
+    rate: impl Fn(DVec3) -> (DVec3, DVec3),
+) -> Vec<PiercedFace> {
+    piece
+        .iter()
+        .map(|&(normal, offset)| {
+            let (n, d) = rate(normal);
+            PiercedFace {
+                n,
+                d,
+                known: Interval::new(f64::NEG_INFINITY, f64::INFINITY),
+                gap: crossing
+                    .iter()
+                    .map(|&q| offset - normal.dot(q))
+                    .fold(f64::INFINITY, f64::min)
+                    .max(0.0),
+            }
+        })
+        .collect()
 }
 
 /// The faces (outer normal, offset) of each convex piece of a part whose boundary holds
