@@ -11,6 +11,15 @@
 //! the crossing is at least `min_F (g_F + s r_F)` over the piece's faces `F` (`g_F` how
 //! far the crossing is from `F`'s plane at least, `r_F` the rate the ray moves into
 //! `F`'s side), as long as `s` stays within the ray's edge.
+//!
+//! The same ray also shows an edge lying in a face: where the ray's edge turns off
+//! the plane of a face at the other edge by almost nothing (the yaw pinned, a rim edge
+//! along a peg's side face), it lies within a small tolerance `τ` of that plane from end
+//! to end, and past the crossing it runs over the face, inside its other sides (the
+//! piece's other faces) by the same `min` without that face. More than `4 τ` somewhere
+//! puts the midpoint of the stretch the contact module classifies more than `2 τ`
+//! inside (the depth is concave and not negative along it): a checker with tolerance
+//! `τ` reads the edge in the face, which implies the crossing ([`Pierce::lies_in_a_face`]).
 
 use glam::DVec3;
 
@@ -35,7 +44,19 @@ pub(crate) struct Pierce {
     least_reach: f64,
     /// A sinking deeper than this penetrates beyond the contact tolerance.
     deep: f64,
+    /// The faces (indices into `faces`) that are faces of the part at the other edge:
+    /// the ray's edge may lie in one of them ([`Pierce::lies_in_a_face`]).
+    lying: Vec<usize>,
+    /// The length of the ray's edge.
+    length: f64,
+    /// The contact tolerance.
+    tolerance: f64,
 }
+
+/// The largest tolerance, in contact tolerances, of the checker [`Pierce`] reads an
+/// edge lying in a face with: well inside the range every robust witness must agree
+/// over (up to a thousand).
+const LYING_TOLERANCES: f64 = 100.0;
 
 #[derive(Clone, Copy, Debug)]
 struct PiercedFace {
@@ -136,7 +157,37 @@ impl Pierce {
                 .map(|&(gap, rate)| gap + s * rate)
                 .fold(f64::INFINITY, f64::min)
         };
-        (0..=HALVINGS).any(|k| depth(reach * 2f64.powi(-k)) > self.deep)
+        (0..=HALVINGS).any(|k| depth(reach * 2f64.powi(-k)) > self.deep) || self.lies_in_a_face(r, &rates, reach)
+    }
+
+    /// Whether the ray's edge lies in a face at the other edge, as a checker within the
+    /// robust range reads it: the edge strays from the face's plane by at most the
+    /// tolerance at the crossing plus its turn off the plane times its length (`τ`
+    /// with the crossing's own tolerance), and past the crossing it runs over the face,
+    /// whose other sides (the piece's other faces) it stays inside by more than `4 τ`
+    /// somewhere. The depth along the ray is concave and not negative over the stretch
+    /// the contact module classifies, so its midpoint lies at least half that deep:
+    /// more than `2 τ`, and the checker with tolerance `τ` reads the edge in the face,
+    /// which implies the crossing.
+    fn lies_in_a_face(&self, r: &IntervalMat, rates: &[(f64, f64)], reach: f64) -> bool {
+        self.lying.iter().any(|&i| {
+            let face = &self.faces[i];
+            let turn = value(r, face.n, face.d).meet(face.known);
+            let stray = turn.lo.abs().max(turn.hi.abs());
+            let tau = 2.0 * self.tolerance + stray * self.length;
+            if tau.is_nan() || tau > LYING_TOLERANCES * self.tolerance {
+                return false;
+            }
+            let inside = |s: f64| {
+                rates
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != i)
+                    .map(|(_, &(gap, rate))| gap + s * rate)
+                    .fold(f64::INFINITY, f64::min)
+            };
+            (0..=HALVINGS).any(|k| inside(reach * 2f64.powi(-k)) > 4.0 * tau)
+        })
     }
 
     /// The values whose ranges the target's other conditions narrow, so that they can
@@ -169,6 +220,8 @@ pub(crate) struct Crossing<'a> {
     pub near: f64,
     /// A sinking deeper than this penetrates beyond the contact tolerance.
     pub deep: f64,
+    /// The contact tolerance.
+    pub tolerance: f64,
 }
 
 impl Crossing<'_> {
@@ -197,6 +250,9 @@ impl Crossing<'_> {
                     },
                     least_reach: self.margin,
                     deep: self.deep,
+                    lying: faces_at(self.moving, self.moving_edge, &piece, crossing_on_b, self.near),
+                    length: ga0.distance(ga1),
+                    tolerance: self.tolerance,
                 });
             }
         }
@@ -215,6 +271,9 @@ impl Crossing<'_> {
                     },
                     least_reach: self.margin,
                     deep: self.deep,
+                    lying: faces_at(self.fixed, self.fixed_edge, &piece, crossing_on_a, self.near),
+                    length: b0.distance(b1),
+                    tolerance: self.tolerance,
                 });
             }
         }
@@ -245,6 +304,21 @@ fn pierced_faces(
                     .max(0.0),
             }
         })
+        .collect()
+}
+
+/// The faces of a piece (indices) through the segment between `crossing` that are faces
+/// of the part at edge `x` (the same outer normal), not cuts of the decomposition.
+fn faces_at(part: &Part, x: EdgeId, piece: &[(DVec3, f64)], crossing: [DVec3; 2], near: f64) -> Vec<usize> {
+    let normals = part.edge(x).faces.map(|f| part.face(f).normal);
+    piece
+        .iter()
+        .enumerate()
+        .filter(|(_, (normal, offset))| {
+            crossing.iter().all(|q| (offset - normal.dot(*q)).abs() <= near)
+                && normals.iter().any(|m| m.dot(*normal) >= 1.0 - 1e-12)
+        })
+        .map(|(i, _)| i)
         .collect()
 }
 
@@ -329,5 +403,40 @@ mod tests {
         let at = Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
         assert!(problem.turns(&state).may_hold(&at));
         assert!(problem.strict_turns(&state).may_hold(&at));
+    }
+
+    #[test]
+    fn a_rim_edge_crossing_the_pegs_bottom_edge_with_the_yaw_pinned_lies_in_its_side_face() {
+        // The plain hole's rim edge e11 (along y) and the square peg's bottom edge e1,
+        // turned 0.04 rad apart about x, the yaw pinned at 0: the peg's side face f0
+        // keeps its normal in the xz plane, so e11 lies in f0's plane once it crosses
+        // e1, and past the crossing it runs over f0. Over the bounds the two edges may
+        // be parallel, so the whole-bounds rule (a sine above 0.05 throughout) says
+        // nothing; the ray sees the stretch over the face at this tilt, even with the
+        // crossing as near an end of e1 as the margin allows.
+        let (hole, peg) = (
+            crate::testing::fixture("block_with_hole.off"),
+            crate::testing::fixture("peg.off"),
+        );
+        let d = 3f64.to_radians();
+        let pinned = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let problem = Problem::new(&hole, &peg, pinned, glam::DAffine3::IDENTITY);
+        let (rx, ry) = (0.04, -0.003);
+        let turned = Pose::from_array([0.0, 0.0, 0.0, rx, ry, 0.0]).rotation();
+        let on_e1 = turned * DVec3::new(36.0, 50.0, 10.0);
+        let pose = Pose::from_array([35.0 - on_e1.x, 50.0 - on_e1.y, 50.0 - on_e1.z, rx, ry, 0.0]);
+        // Independently of the rule: the contact module reads e11 lying in f0 there.
+        let report = problem.scene().state(&problem.placement(&pose), CONTACT_REL);
+        let crossing = crate::testing::contact("e11", "e1", K::EdgeEdge);
+        let lying = crate::testing::contact("e11", "f0", K::EdgeFace);
+        assert!(report.contacts.contains(&lying), "{:?}", report.contacts);
+        assert!(!report.contacts.contains(&crossing));
+        let at = Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
+        let turns = problem.turns(&[crossing]);
+        assert!(!turns.may_hold(&at));
+        assert!(
+            turns.without_pierce().may_hold(&at),
+            "the rays exclude it, not the rest"
+        );
     }
 }

@@ -571,6 +571,7 @@ impl Problem<'_> {
                     margin: rise,
                     near: scaled(CONTACT_REL, self.scale),
                     deep: scaled(PIERCE_DEPTH_REL, self.scale),
+                    tolerance: scaled(CONTACT_REL, self.scale),
                 };
                 out.pierce.extend(crossing.rays());
             }
