@@ -29,7 +29,7 @@ use crate::pose::Bounds;
 
 /// One edge's ray from a crossing with an edge of the other part, against one convex
 /// piece of that part holding the other edge: excluded when the ray certainly sinks
-/// deeper than `deep` into it within its reach.
+/// deeper than [`DEEP_TOLERANCES`] contact tolerances into it within its reach.
 #[derive(Clone, Debug)]
 pub(crate) struct Pierce {
     /// Per face of the piece: the value `n · (R d)` of the rate the ray moves into its
@@ -42,8 +42,6 @@ pub(crate) struct Pierce {
     /// The least ray length, whatever the box: the crossing is the prover's margin
     /// inside the ray's edge.
     least_reach: f64,
-    /// A sinking deeper than this penetrates beyond the contact tolerance.
-    deep: f64,
     /// The faces (indices into `faces`) that are faces of the part at the other edge:
     /// the ray's edge may lie in one of them ([`Pierce::lies_in_a_face`]).
     lying: Vec<usize>,
@@ -52,6 +50,11 @@ pub(crate) struct Pierce {
     /// The contact tolerance.
     tolerance: f64,
 }
+
+/// How deep, in contact tolerances, a ray must certainly sink into the other part for
+/// [`Pierce`] to exclude a box: the tolerance a witness may penetrate by, as much again
+/// for the crossing's own tolerance, and three times more for safety.
+const DEEP_TOLERANCES: f64 = 5.0;
 
 /// The largest tolerance, in contact tolerances, of the checker [`Pierce`] reads an
 /// edge lying in a face with: well inside the range every robust witness must agree
@@ -157,7 +160,8 @@ impl Pierce {
                 .map(|&(gap, rate)| gap + s * rate)
                 .fold(f64::INFINITY, f64::min)
         };
-        (0..=HALVINGS).any(|k| depth(reach * 2f64.powi(-k)) > self.deep) || self.lies_in_a_face(r, &rates, reach)
+        (0..=HALVINGS).any(|k| depth(reach * 2f64.powi(-k)) > DEEP_TOLERANCES * self.tolerance)
+            || self.lies_in_a_face(r, &rates, reach)
     }
 
     /// Whether the ray's edge lies in a face at the other edge, as a checker within the
@@ -218,8 +222,6 @@ pub(crate) struct Crossing<'a> {
     pub margin: f64,
     /// How near a piece's boundary an edge's ends must be for the piece to hold it.
     pub near: f64,
-    /// A sinking deeper than this penetrates beyond the contact tolerance.
-    pub deep: f64,
     /// The contact tolerance.
     pub tolerance: f64,
 }
@@ -249,7 +251,6 @@ impl Crossing<'_> {
                         points: crossing_on_b,
                     },
                     least_reach: self.margin,
-                    deep: self.deep,
                     lying: faces_at(self.moving, self.moving_edge, &piece, crossing_on_b, self.near),
                     length: ga0.distance(ga1),
                     tolerance: self.tolerance,
@@ -270,7 +271,6 @@ impl Crossing<'_> {
                         points: crossing_on_a_g,
                     },
                     least_reach: self.margin,
-                    deep: self.deep,
                     lying: faces_at(self.fixed, self.fixed_edge, &piece, crossing_on_a, self.near),
                     length: b0.distance(b1),
                     tolerance: self.tolerance,

@@ -72,12 +72,6 @@ struct Flush {
 /// (half the separation) to the contact point. Four times their ratio, for safety.
 const LEVER_SLACK: f64 = 4.0 * CONTACT_REL / (0.5 * SEPARATION_REL);
 
-/// How deep (relative to the parts' size) an edge must certainly sink into the other
-/// part for [`Pierce`] to exclude a box: the contact tolerance, which a witness may
-/// penetrate by, plus as much again for the crossing's own tolerance, and three times
-/// more for safety.
-const PIERCE_DEPTH_REL: f64 = 5.0 * CONTACT_REL;
-
 /// Slabs tried from each end of an angle's range by [`Turns::shave`], at most.
 const SHAVE_STEPS: usize = 24;
 /// The thinnest slab [`Turns::shave`] tries, as a share of what is left.
@@ -570,7 +564,6 @@ impl Problem<'_> {
                     to_g_direction: &to_g,
                     margin: rise,
                     near: scaled(CONTACT_REL, self.scale),
-                    deep: scaled(PIERCE_DEPTH_REL, self.scale),
                     tolerance: scaled(CONTACT_REL, self.scale),
                 };
                 out.pierce.extend(crossing.rays());
