@@ -14,6 +14,20 @@ impl Numbers {
     }
 }
 
+/// The root of `f` in `[lo, hi]` by bisection (`f` changes sign there).
+pub(crate) fn bisect(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if (f(mid) > 0.0) == (f(lo) > 0.0) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// The edge of `part` between the points `p` and `q`.
 pub(crate) fn edge_between(part: &crate::model::Part, p: glam::DVec3, q: glam::DVec3) -> crate::model::ElementId {
     use crate::model::{EdgeId, ElementId, VertexId};

@@ -151,6 +151,23 @@ pub(crate) fn axis_rotations(bounds: &Bounds) -> [IntervalMat; 3] {
     [rx, ry, rz]
 }
 
+/// `R d` over a rotation enclosure.
+pub(crate) fn rotated(r: &IntervalMat, d: glam::DVec3) -> [Interval; 3] {
+    std::array::from_fn(|i| {
+        (0..3).fold(Interval::point(0.0), |acc, j| {
+            acc.add(r[i][j].mul(Interval::point(d[j])))
+        })
+    })
+}
+
+/// `n · (R d)` over a rotation enclosure (n in G's frame, d in the moving part's).
+pub(crate) fn turned_value(r: &IntervalMat, n: glam::DVec3, d: glam::DVec3) -> Interval {
+    let turned = rotated(r, d);
+    (0..3).fold(Interval::point(0.0), |acc, i| {
+        acc.add(turned[i].mul(Interval::point(n[i])))
+    })
+}
+
 /// Enclosure of R = Rz(rz) Ry(ry) Rx(rx) over the bounds' angle box.
 pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
     let [rx, ry, rz] = axis_rotations(bounds);

@@ -505,18 +505,9 @@ mod tests {
         let lying = contact("e7", "f2", ContactKind::EdgeFace);
         for (rx, rz, along) in [(-0.2, 0.02, 60.0), (-0.1, 0.05, 40.0), (-0.3, 0.01, 75.0)] {
             let turned = |ry: f64| Pose::from_array([0.0, 0.0, 0.0, rx, ry, rz]).rotation();
-            let (mut lo, mut hi) = (-0.5, 0.5);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if ((turned(mid) * DVec3::Z).x > 0.0) == ((turned(lo) * DVec3::Z).x > 0.0) {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            let r = turned(0.5 * (lo + hi));
+            let ry = crate::testing::bisect(|ry| (turned(ry) * DVec3::Z).x, -0.5, 0.5);
+            let r = turned(ry);
             let (corner, on_e1) = (r * DVec3::new(150.0, 10.0, 50.0), r * DVec3::new(50.0, along, 50.0));
-            let ry = 0.5 * (lo + hi);
             let pose = Pose::from_array([150.0 - corner.x, 100.0 - on_e1.y, 50.0 - on_e1.z, rx, ry, rz]);
             let report = scene.state(
                 &pose.to_affine(&glam::DAffine3::IDENTITY),

@@ -23,7 +23,7 @@
 
 use glam::DVec3;
 
-use super::interval::{Interval, IntervalMat};
+use super::interval::{Interval, IntervalMat, rotated, turned_value as value};
 use crate::model::{EdgeId, Part};
 use crate::pose::Bounds;
 
@@ -80,23 +80,6 @@ enum Reach {
     /// `d` in the moving frame), from a crossing `c` on the fixed edge between `points`
     /// (G's frame): the crossing is at `R^T (c - t)` there.
     Moving { d: DVec3, end: f64, points: [DVec3; 2] },
-}
-
-/// `n · (R d)` over a rotation enclosure.
-fn value(r: &IntervalMat, n: DVec3, d: DVec3) -> Interval {
-    let turned = rotated(r, d);
-    (0..3).fold(Interval::point(0.0), |acc, i| {
-        acc.add(turned[i].mul(Interval::point(n[i])))
-    })
-}
-
-/// `R d` over a rotation enclosure.
-fn rotated(r: &IntervalMat, d: DVec3) -> [Interval; 3] {
-    std::array::from_fn(|i| {
-        (0..3).fold(Interval::point(0.0), |acc, j| {
-            acc.add(r[i][j].mul(Interval::point(d[j])))
-        })
-    })
 }
 
 /// The translation part of a box, per axis.
@@ -344,18 +327,9 @@ mod tests {
     /// `y_b` along it, the box turned by `rx` and `ry` (and the `rz` that keeps its
     /// bottom edges e1 and e9 parallel to the wall), `gap` short of the wall.
     fn crossing_pose(rx: f64, ry: f64, y_b: f64, gap: f64) -> Pose {
-        // The rz where R y_B has no x component, by bisection (it is small).
+        // The rz where R y_B has no x component (it is small).
         let x_of_e1 = |rz: f64| (Pose::from_array([0.0, 0.0, 0.0, rx, ry, rz]).rotation() * DVec3::Y).x;
-        let (mut lo, mut hi) = (-0.5, 0.5);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if (x_of_e1(mid) > 0.0) == (x_of_e1(lo) > 0.0) {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        let rz = 0.5 * (lo + hi);
+        let rz = crate::testing::bisect(x_of_e1, -0.5, 0.5);
         let turned = Pose::from_array([0.0, 0.0, 0.0, rx, ry, rz]).rotation();
         let side = turned * DVec3::new(150.0, 10.0, 50.0);
         let on_e1 = turned * DVec3::new(50.0, y_b, 50.0);

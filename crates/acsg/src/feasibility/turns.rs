@@ -13,7 +13,7 @@
 use glam::DVec3;
 
 use super::Problem;
-use super::interval::{Interval, IntervalMat, rotation_enclosure};
+use super::interval::{Interval, IntervalMat, rotation_enclosure, turned_value as value};
 use super::pierce::{Crossing, Pierce};
 use super::prover::{face_untouched, implied};
 use crate::contact::{ContactKind, PrincipalContact};
@@ -112,16 +112,6 @@ struct Outside {
 struct Lying {
     flat: Turn,
     into: (DVec3, DVec3),
-}
-
-/// `n · (R d)` over a rotation enclosure.
-fn value(r: &IntervalMat, n: DVec3, d: DVec3) -> Interval {
-    (0..3).fold(Interval::point(0.0), |acc, i| {
-        let row = (0..3).fold(Interval::point(0.0), |acc, j| {
-            acc.add(r[i][j].mul(Interval::point(d[j])))
-        });
-        acc.add(row.mul(Interval::point(n[i])))
-    })
 }
 
 impl Wedge {
