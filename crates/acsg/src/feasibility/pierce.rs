@@ -137,14 +137,18 @@ impl Pierce {
             return false;
         }
         let reach = self.reach.least(r, b).max(self.least_reach);
+        // Each face's line bounds the depth over the whole ray: below the threshold
+        // there, no length tried can exceed it (the common case, answered without them).
+        let deep = DEEP_TOLERANCES * self.tolerance;
+        let shallow = reach > 0.0 && least_line_top(&rates, reach, None) <= deep;
         let depth = |s: f64| {
             rates
                 .iter()
                 .map(|&(gap, rate)| gap + s * rate)
                 .fold(f64::INFINITY, f64::min)
         };
-        (0..=HALVINGS).any(|k| depth(reach * 2f64.powi(-k)) > DEEP_TOLERANCES * self.tolerance)
-            || self.lies_in_a_face(r, &rates, reach)
+        let sinks = !shallow && (0..=HALVINGS).any(|k| depth(reach * 2f64.powi(-k)) > deep);
+        sinks || self.lies_in_a_face(r, &rates, reach)
     }
 
     /// Whether the ray's edge lies in a face at the other edge, as a checker within the
@@ -163,6 +167,9 @@ impl Pierce {
             let stray = turn.lo.abs().max(turn.hi.abs());
             let tau = 2.0 * self.tolerance + stray * self.length;
             if tau.is_nan() || tau > LYING_TOLERANCES * self.tolerance {
+                return false;
+            }
+            if reach > 0.0 && least_line_top(rates, reach, Some(i)) <= 4.0 * tau {
                 return false;
             }
             let inside = |s: f64| {
@@ -189,6 +196,18 @@ impl Pierce {
         let f = &mut self.faces[i];
         f.known = f.known.meet(range);
     }
+}
+
+/// The least, over the faces (but `skip`), of the largest value each face's line
+/// `gap + s rate` takes for `s` in `[0, reach]`: an upper bound of the depth
+/// `min_F (gap_F + s rate_F)` along the whole ray.
+fn least_line_top(rates: &[(f64, f64)], reach: f64, skip: Option<usize>) -> f64 {
+    rates
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| Some(j) != skip)
+        .map(|(_, &(gap, rate))| gap + (reach * rate).max(0.0))
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// What a crossing of a fixed and a moving edge needs to build its rays.
