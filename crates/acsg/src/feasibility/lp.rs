@@ -100,10 +100,11 @@ pub(crate) fn solve(rows: &[Row], lo: &[f64; VARS], hi: &[f64; VARS]) -> Outcome
     }
     z[VARS] = v0;
     let mut active: [usize; N] = std::array::from_fn(|k| if k < VARS { first_box + 2 * k } else { worst });
-    for _ in 0..200 {
-        let Some(inverse) = invert(&std::array::from_fn(|r| halves[active[r]].g)) else {
-            return Outcome::Unknown;
-        };
+    let basis = |active: &[usize; N]| invert(&std::array::from_fn(|r| halves[active[r]].g));
+    let Some(mut inverse) = basis(&active) else {
+        return Outcome::Unknown;
+    };
+    for iteration in 1..=200 {
         // Multipliers of the active constraints for min v: Mᵀ λ = −e_v.
         let lambda: [f64; N] = std::array::from_fn(|i| -inverse[VARS][i]);
         // Bland's rule: the lowest-numbered constraint with a negative multiplier.
@@ -143,6 +144,15 @@ pub(crate) fn solve(rows: &[Row], lo: &[f64; VARS], hi: &[f64; VARS]) -> Outcome
             return point(&z);
         }
         active[leave] = enter;
+        // One row of the basis changed: the inverse follows in O(N²), from scratch
+        // every [`REFRESH`] steps or when the pivot is small, against drift.
+        let updated = (iteration % REFRESH != 0)
+            .then(|| replaced_row(&inverse, leave, &halves[enter].g))
+            .flatten();
+        inverse = match updated.or_else(|| basis(&active)) {
+            Some(inverse) => inverse,
+            None => return Outcome::Unknown,
+        };
     }
     Outcome::Unknown
 }
@@ -175,6 +185,24 @@ fn certified(halves: &[Half], active: &[usize; N], lambda: &[f64; N], lo: &[f64;
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Simplex steps between inverses computed from scratch.
+const REFRESH: usize = 16;
+
+/// The inverse of a matrix `M` whose inverse is `inverse`, once its row `row` is
+/// replaced by `g`: with `α = g M⁻¹`, column `row` becomes `M⁻¹ e_row / α_row` and
+/// every other column `k` loses `α_k` times that. `None` when `α_row` is too small for
+/// the update to be trusted.
+fn replaced_row(inverse: &[[f64; N]; N], row: usize, g: &[f64; N]) -> Option<[[f64; N]; N]> {
+    let alpha: [f64; N] = std::array::from_fn(|k| (0..N).map(|j| g[j] * inverse[j][k]).sum());
+    if alpha[row].abs() < 1e-9 {
+        return None;
+    }
+    let column: [f64; N] = std::array::from_fn(|j| inverse[j][row] / alpha[row]);
+    Some(std::array::from_fn(|j| {
+        std::array::from_fn(|k| if k == row { column[j] } else { inverse[j][k] - column[j] * alpha[k] })
+    }))
 }
 
 /// The inverse of a small matrix by Gauss–Jordan elimination with partial pivoting;
@@ -259,6 +287,22 @@ mod tests {
         // Without the bound z ≥ 0 there are points: z < 0, a > 0, b < 0.
         let lo = [-1.0, -1e-3, -1e-3, 0.0, 0.0, 0.0];
         assert!(!proves_empty(&rows, &lo, &hi));
+    }
+
+    #[test]
+    fn an_inverse_with_a_row_replaced_is_the_inverse_of_the_new_matrix() {
+        let m: [[f64; N]; N] = std::array::from_fn(|r| std::array::from_fn(|c| if r == c { 2.0 } else { 0.1 * (r + 2 * c) as f64 }));
+        let g: [f64; N] = std::array::from_fn(|k| 1.0 + 0.3 * k as f64);
+        let inverse = invert(&m).expect("the matrix is well conditioned");
+        let updated = replaced_row(&inverse, 3, &g).expect("the pivot is large");
+        let mut replaced = m;
+        replaced[3] = g;
+        let direct = invert(&replaced).expect("the new matrix is well conditioned");
+        for r in 0..N {
+            for c in 0..N {
+                assert!((updated[r][c] - direct[r][c]).abs() < 1e-12, "({r}, {c})");
+            }
+        }
     }
 
     #[test]
