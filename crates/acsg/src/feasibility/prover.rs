@@ -709,10 +709,16 @@ impl<'a> Prover<'a> {
     /// The component among `components` to halve, rotations weighed as the arc they
     /// sweep at the parts' size; `None` when the box is already below the slack there.
     pub fn split_among(&self, bounds: &Bounds, components: std::ops::Range<usize>) -> Option<usize> {
+        self.widest_above(bounds, components, self.slack)
+    }
+
+    /// The component among `components` that is widest, rotations weighed as the arc
+    /// they sweep at the parts' size; `None` when it is no wider than `floor` (a length).
+    pub fn widest_above(&self, bounds: &Bounds, components: std::ops::Range<usize>, floor: f64) -> Option<usize> {
         let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
         let weight = |k: usize| (hi[k] - lo[k]) * if k < 3 { 1.0 } else { 2.0 * self.reach };
         let k = components.max_by(|&i, &j| weight(i).total_cmp(&weight(j)))?;
-        (weight(k) > self.slack).then_some(k)
+        (weight(k) > floor.max(self.slack)).then_some(k)
     }
 
     /// Interval propagation over one box: the translation narrowed by the contacts,
