@@ -103,6 +103,14 @@ pub struct Proof {
 }
 
 impl Proof {
+    /// The proof of a rule that rules a candidate out whatever the pose.
+    fn outright(rule: Rule) -> Proof {
+        Proof {
+            rules: BTreeSet::from([rule]),
+            boxes: 1,
+        }
+    }
+
     /// Whether the proof may lean on other pairs of elements keeping apart (the pairs
     /// a witness keeps apart, in propagation; the robustness rule): then it rules out
     /// the candidate alone, not the states holding it with more contacts.
@@ -565,10 +573,7 @@ impl Problem<'_> {
         let conditions = match self.last_conditions(target) {
             Ok(conditions) => conditions,
             Err(rule) => {
-                return Some(Proof {
-                    rules: BTreeSet::from([rule]),
-                    boxes: 1,
-                });
+                return Some(Proof::outright(rule));
             }
         };
         let proved = |from: &[Bounds], phases: &[(Mode, usize)], stats: &mut SearchStats| {
@@ -656,10 +661,7 @@ impl Problem<'_> {
         let conditions = match self.conditions(target) {
             Ok(conditions) => conditions,
             Err(rule) => {
-                return Decision::Infeasible(Proof {
-                    rules: BTreeSet::from([rule]),
-                    boxes: 1,
-                });
+                return Decision::Infeasible(Proof::outright(rule));
             }
         };
         let links = &conditions;
@@ -1265,15 +1267,17 @@ mod tests {
     fn halving_on_the_example(target: &mut [PrincipalContact], budget: usize) -> Option<Proof> {
         target.sort();
         let (block, cuboid) = crate::examples::l_block_and_box();
-        let problem = Problem::new(&block, &cuboid, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let problem = Problem::new(
+            &block,
+            &cuboid,
+            crate::examples::paper_bounds(),
+            glam::DAffine3::IDENTITY,
+        );
         let conditions = match problem.last_conditions(target) {
             Ok(conditions) => conditions,
             // Ruled out whatever the pose: a proof too.
             Err(rule) => {
-                return Some(Proof {
-                    rules: BTreeSet::from([rule]),
-                    boxes: 1,
-                });
+                return Some(Proof::outright(rule));
             }
         };
         let floor = scaled(HALVING_FLOOR_REL, problem.scale);
@@ -1286,10 +1290,7 @@ mod tests {
         // box's bottom edge e9: the branch and prune's look-ahead leaves it open (the
         // built-in example's graph listed it undecided until the halving came); halved
         // where widest, every box falls within a few hundred.
-        let mut target = [
-            contact("f5", "v6", K::FaceVertex),
-            contact("e7", "e9", K::EdgeEdge),
-        ];
+        let mut target = [contact("f5", "v6", K::FaceVertex), contact("e7", "e9", K::EdgeEdge)];
         let proof = halving_on_the_example(&mut target, HALVING_BUDGET);
         assert!(proof.as_ref().is_some_and(|p| p.boxes < 1000), "{proof:?}");
         // With too few boxes it gives up rather than claim a proof.
@@ -1308,13 +1309,15 @@ mod tests {
             0.08214562990854982,
             0.31415913155484626,
         ]);
-        let mut target = [
-            contact("f5", "v5", K::FaceVertex),
-            contact("e7", "e9", K::EdgeEdge),
-        ];
+        let mut target = [contact("f5", "v5", K::FaceVertex), contact("e7", "e9", K::EdgeEdge)];
         target.sort();
         let (block, cuboid) = crate::examples::l_block_and_box();
-        let problem = Problem::new(&block, &cuboid, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let problem = Problem::new(
+            &block,
+            &cuboid,
+            crate::examples::paper_bounds(),
+            glam::DAffine3::IDENTITY,
+        );
         let state = problem.verify(&witness).expect("a clean witness");
         assert!(target.iter().all(|pc| state.contains(pc)), "{state:?}");
         assert!(halving_on_the_example(&mut target, HALVING_BUDGET).is_none());

@@ -201,7 +201,13 @@ fn replaced_row(inverse: &[[f64; N]; N], row: usize, g: &[f64; N]) -> Option<[[f
     }
     let column: [f64; N] = std::array::from_fn(|j| inverse[j][row] / alpha[row]);
     Some(std::array::from_fn(|j| {
-        std::array::from_fn(|k| if k == row { column[j] } else { inverse[j][k] - column[j] * alpha[k] })
+        std::array::from_fn(|k| {
+            if k == row {
+                column[j]
+            } else {
+                inverse[j][k] - column[j] * alpha[k]
+            }
+        })
     }))
 }
 
@@ -291,7 +297,8 @@ mod tests {
 
     #[test]
     fn an_inverse_with_a_row_replaced_is_the_inverse_of_the_new_matrix() {
-        let m: [[f64; N]; N] = std::array::from_fn(|r| std::array::from_fn(|c| if r == c { 2.0 } else { 0.1 * (r + 2 * c) as f64 }));
+        let m: [[f64; N]; N] =
+            std::array::from_fn(|r| std::array::from_fn(|c| if r == c { 2.0 } else { 0.1 * (r + 2 * c) as f64 }));
         let g: [f64; N] = std::array::from_fn(|k| 1.0 + 0.3 * k as f64);
         let inverse = invert(&m).expect("the matrix is well conditioned");
         let updated = replaced_row(&inverse, 3, &g).expect("the pivot is large");
