@@ -512,8 +512,9 @@ impl Problem<'_> {
 
     /// A proof by halving alone over the whole bounds, depth first: each box tested
     /// once with the last proofs' conditions (no look-ahead) and halved where it is
-    /// widest, rotations weighed as the arc they sweep. `None` once `budget` boxes are
-    /// examined or a box no wider than `floor` stays open: the branch and prune's
+    /// widest, rotations weighed as the arc they sweep, the half holding `toward` (the
+    /// centre of the box the branch and prune left open) first. `None` once `budget`
+    /// boxes are examined or a box no wider than `floor` stays open: the branch and prune's
     /// look-ahead weighs the halves' propagation, which near a limit pose of a larger
     /// state keeps splitting translations that the halving leaves whole, while a
     /// rotation slice of a few milliradians would fall to propagation outright.
@@ -521,6 +522,7 @@ impl Problem<'_> {
         &self,
         target: &[PrincipalContact],
         conditions: &Conditions,
+        toward: Pose,
         budget: usize,
         floor: f64,
         stats: &mut SearchStats,
@@ -540,7 +542,12 @@ impl Problem<'_> {
                 }
                 Ok(narrowed) => {
                     let k = self.prover.widest_above(&narrowed, 0..6, floor)?;
-                    stack.extend(halves(&narrowed, k));
+                    // The half holding `toward` is examined first: a box that stays
+                    // open is found early where there is one.
+                    let mut split = halves(&narrowed, k);
+                    let t = toward.to_array()[k];
+                    split.sort_by_key(|h| h.min.to_array()[k] <= t && t <= h.max.to_array()[k]);
+                    stack.extend(split);
                 }
             }
         }
@@ -614,7 +621,14 @@ impl Problem<'_> {
         };
         standard(stats).or_else(|| {
             let floor = scaled(HALVING_FLOOR_REL, self.scale);
-            self.prove_by_halving(target, &conditions, HALVING_BUDGET * effort, floor, stats)
+            self.prove_by_halving(
+                target,
+                &conditions,
+                open.center(),
+                HALVING_BUDGET * effort,
+                floor,
+                stats,
+            )
         })
     }
 
@@ -1281,7 +1295,14 @@ mod tests {
             }
         };
         let floor = scaled(HALVING_FLOOR_REL, problem.scale);
-        problem.prove_by_halving(target, &conditions, budget, floor, &mut SearchStats::default())
+        problem.prove_by_halving(
+            target,
+            &conditions,
+            problem.bounds.center(),
+            budget,
+            floor,
+            &mut SearchStats::default(),
+        )
     }
 
     #[test]
