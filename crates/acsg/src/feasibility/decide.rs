@@ -1276,33 +1276,24 @@ mod tests {
     use crate::contact::ContactKind as K;
     use crate::testing::{contact, fixture};
 
-    /// The proof by halving of `target` (sorted here) on the built-in example, with the
-    /// last proofs' conditions.
-    fn halving_on_the_example(target: &mut [PrincipalContact], budget: usize) -> Option<Proof> {
-        target.sort();
+    /// `f` of the built-in example's problem.
+    fn with_the_example<T>(f: impl FnOnce(&Problem<'_>) -> T) -> T {
         let (block, cuboid) = crate::examples::l_block_and_box();
-        let problem = Problem::new(
-            &block,
-            &cuboid,
-            crate::examples::paper_bounds(),
-            glam::DAffine3::IDENTITY,
-        );
+        let bounds = crate::examples::paper_bounds();
+        f(&Problem::new(&block, &cuboid, bounds, glam::DAffine3::IDENTITY))
+    }
+
+    /// The proof by halving of `target` (sorted here) with the last proofs' conditions.
+    fn halving(problem: &Problem<'_>, target: &mut [PrincipalContact], budget: usize) -> Option<Proof> {
+        target.sort();
         let conditions = match problem.last_conditions(target) {
             Ok(conditions) => conditions,
             // Ruled out whatever the pose: a proof too.
-            Err(rule) => {
-                return Some(Proof::outright(rule));
-            }
+            Err(rule) => return Some(Proof::outright(rule)),
         };
         let floor = scaled(HALVING_FLOOR_REL, problem.scale);
-        problem.prove_by_halving(
-            target,
-            &conditions,
-            problem.bounds.center(),
-            budget,
-            floor,
-            &mut SearchStats::default(),
-        )
+        let toward = problem.bounds.center();
+        problem.prove_by_halving(target, &conditions, toward, budget, floor, &mut SearchStats::default())
     }
 
     #[test]
@@ -1312,10 +1303,12 @@ mod tests {
         // built-in example's graph listed it undecided until the halving came); halved
         // where widest, every box falls within a few hundred.
         let mut target = [contact("f5", "v6", K::FaceVertex), contact("e7", "e9", K::EdgeEdge)];
-        let proof = halving_on_the_example(&mut target, HALVING_BUDGET);
-        assert!(proof.as_ref().is_some_and(|p| p.boxes < 1000), "{proof:?}");
-        // With too few boxes it gives up rather than claim a proof.
-        assert!(halving_on_the_example(&mut target, 50).is_none());
+        with_the_example(|problem| {
+            let proof = halving(problem, &mut target, HALVING_BUDGET);
+            assert!(proof.as_ref().is_some_and(|p| p.boxes < 1000), "{proof:?}");
+            // With too few boxes it gives up rather than claim a proof.
+            assert!(halving(problem, &mut target, 50).is_none());
+        });
     }
 
     #[test]
@@ -1331,17 +1324,11 @@ mod tests {
             0.31415913155484626,
         ]);
         let mut target = [contact("f5", "v5", K::FaceVertex), contact("e7", "e9", K::EdgeEdge)];
-        target.sort();
-        let (block, cuboid) = crate::examples::l_block_and_box();
-        let problem = Problem::new(
-            &block,
-            &cuboid,
-            crate::examples::paper_bounds(),
-            glam::DAffine3::IDENTITY,
-        );
-        let state = problem.verify(&witness).expect("a clean witness");
-        assert!(target.iter().all(|pc| state.contains(pc)), "{state:?}");
-        assert!(halving_on_the_example(&mut target, HALVING_BUDGET).is_none());
+        with_the_example(|problem| {
+            let state = problem.verify(&witness).expect("a clean witness");
+            assert!(target.iter().all(|pc| state.contains(pc)), "{state:?}");
+            assert!(halving(problem, &mut target, HALVING_BUDGET).is_none());
+        });
     }
 
     #[test]
