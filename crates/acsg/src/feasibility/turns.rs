@@ -502,12 +502,14 @@ impl Problem<'_> {
                     }
                     return;
                 }
-                // Crossing: not parallel, or every end lies within the tolerance of the
-                // other's line and the two read as along each other (the farthest end
-                // is at most the longer edge away from the crossing).
+                // Crossing: not parallel, or every end lies within the loose reading's
+                // tolerance of the other's line, and that reading, which a witness must
+                // agree with ([`super::witness_flaw`]), has the two collinear (e-e-t, or
+                // not touching): the farthest end is at most the longer edge away from
+                // the crossing, where the edges are within the contact tolerance.
                 out.askew.push(Askew {
                     components,
-                    least: scaled(CONTACT_REL, self.scale) / (le.max(lx) * 3f64.sqrt()),
+                    least: collinear_when_loose(self.scale, le.max(lx)),
                     along: None,
                 });
                 // Two crossing convex edges touch only if the plane through both
@@ -702,6 +704,15 @@ impl Problem<'_> {
             _ => {}
         }
     }
+}
+
+/// The largest component of `d_e × R d_x` (a sine) below which two crossing edges,
+/// the longer `length` long, read as collinear at the loose reading's tolerance: each
+/// end then lies within the contact tolerance plus `length` times the sine of the
+/// other's line (0.1% kept for round-off).
+fn collinear_when_loose(scale: f64, length: f64) -> f64 {
+    let loose = 0.999 * scaled(super::LOOSE_CONTACT_REL, scale);
+    (loose - scaled(CONTACT_REL, scale)) / (length * 3f64.sqrt())
 }
 
 /// The edges leaving a vertex: each one's unit direction from it and its length.
@@ -1054,5 +1065,63 @@ mod tests {
         )
         .unwrap();
         assert!(problem.turns(&corner).may_hold(&upright));
+    }
+
+    #[test]
+    fn crossing_edges_the_loose_reading_has_collinear_are_excluded() {
+        // The box's top edge e10 on the wall's top edge e10 at their midpoints, the box
+        // tipped 0.1 rad away from the wall about that line, then the edge turned by
+        // `angle` both ways (about the vertical and about x) so that its end over the
+        // wall rises off the wall's top face. Turned by 1e-6 rad, the two cross at a
+        // point for the strict reading, but every end lies within 1e-4 mm of the
+        // other's line, and the loose reading (2.7e-4 mm), which a witness must agree
+        // with, has them collinear. The crossing's askew condition rules that rotation
+        // out; it did not while it allowed any turn above the strict tolerance over the
+        // longer edge.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let crossing = crate::testing::contact("e10", "e10", K::EdgeEdge);
+        let turned = |angle: f64| {
+            let rotation = [-angle, 0.1, angle];
+            let at = Pose::from_array([0.0, 0.0, 0.0, rotation[0], rotation[1], rotation[2]]);
+            let pivot = DVec3::new(150.0, 50.0, 150.0);
+            let t = pivot - at.to_affine(&glam::DAffine3::IDENTITY).transform_point3(pivot);
+            [t.x, t.y, t.z, rotation[0], rotation[1], rotation[2]]
+        };
+        let kinds = |x: [f64; 6], tolerance: f64| -> Vec<ContactKind> {
+            let placed = problem.placement(&Pose::from_array(x));
+            let state = problem.scene().state(&placed, tolerance).contacts;
+            state
+                .iter()
+                .filter(|pc| (pc.fixed, pc.moving) == (crossing.fixed, crossing.moving))
+                .map(|pc| pc.kind)
+                .collect()
+        };
+        let x = turned(1e-6);
+        assert_eq!(kinds(x, CONTACT_REL), vec![ContactKind::EdgeEdge]);
+        assert_eq!(
+            kinds(x, crate::feasibility::LOOSE_CONTACT_REL),
+            vec![ContactKind::EdgeEdgeTouch]
+        );
+        let askew_holds = |x: [f64; 6]| {
+            let r = rotation_enclosure(&Bounds::try_new(x, x).unwrap());
+            let turns = problem.turns(&[crossing]);
+            turns.askew.iter().all(|a| {
+                a.components.iter().any(|&(n, d)| {
+                    let v = value(&r, n, d);
+                    v.hi > a.least || v.lo < -a.least
+                })
+            })
+        };
+        assert!(!askew_holds(x));
+        // Turned 1e-4 rad, the ends stand 5e-3 mm and more off the other's line, far
+        // beyond the loose tolerance: both readings have the crossing, and the
+        // condition stands down.
+        let far = turned(1e-4);
+        assert_eq!(
+            kinds(far, crate::feasibility::LOOSE_CONTACT_REL),
+            vec![ContactKind::EdgeEdge]
+        );
+        assert!(askew_holds(far));
     }
 }
