@@ -77,6 +77,11 @@ pub(crate) struct Links {
 struct Overlap {
     fixed: ElementId,
     moving: ElementId,
+    /// How far inside some side of one element's convex part the other's corners must
+    /// all reach for the two to share a point there: `-slack` (they may touch at the
+    /// side), or for a face on a face a quarter of the loose reading's tolerance (see
+    /// [`Prover::may_overlap`]).
+    reach: f64,
 }
 
 impl Links {
@@ -377,6 +382,8 @@ pub(crate) struct Prover<'a> {
     /// every pair that does not touch is at least the separation tolerance apart, so the
     /// point keeps that far from the elements' boundaries (half of it, to be safe).
     margin: f64,
+    /// The loose reading's tolerance ([`super::LOOSE_CONTACT_REL`]).
+    loose: f64,
     /// The widest box of tilts (sum of the `rx` and `ry` half-widths, whatever the yaw)
     /// the second-order test is tried in: wider boxes cost more programmes and are
     /// more often split than proved.
@@ -402,6 +409,7 @@ impl<'a> Prover<'a> {
             to_g,
             slack: scaled(10.0 * CONTACT_REL, scale),
             margin: scaled(0.5 * SEPARATION_REL, scale),
+            loose: scaled(super::LOOSE_CONTACT_REL, scale),
             max_turn: linearised::TURN_PER_EFFORT,
         }
     }
@@ -503,6 +511,11 @@ impl<'a> Prover<'a> {
             .map(|pc| Overlap {
                 fixed: pc.fixed,
                 moving: pc.moving,
+                reach: if pc.kind == ContactKind::FaceFace {
+                    0.25 * self.loose
+                } else {
+                    -self.slack
+                },
             })
             .collect();
         Some(Links {
@@ -758,10 +771,17 @@ impl<'a> Prover<'a> {
     /// Whether the two elements of a contact of a vertex on a face, along a segment or
     /// over an area may share a point somewhere in the box: false when, for every
     /// convex part of each, a side of one has every corner of the other strictly
-    /// outside it (the line of that side then separates the parts). Each element is taken as the convex parts
+    /// outside it (the line of that side then separates the parts).
+    ///
+    /// A face on a face must share more than a point: the loose reading, which a
+    /// witness must agree with ([`super::witness_flaw`]), keeps a piece of their overlap
+    /// only where it is wider than its tolerance (twice its area over its perimeter).
+    /// When every pair of convex parts meets at most within a quarter of that
+    /// tolerance of a side (the other's corners all within it), the overlap lies in
+    /// strips that thin and no piece of it is kept: that reading has no face on face. Each element is taken as the convex parts
     /// of its face, its edge as a part of two corners, its vertex as a part of one.
     fn may_overlap(&self, overlap: &Overlap, r: &IntervalMat, t: &IVec) -> bool {
-        let s = self.slack;
+        let reach = overlap.reach;
         let (fixed, moving) = (
             convex_parts_of(self.fixed, &self.a, overlap.fixed),
             convex_parts_of(self.moving, &self.b, overlap.moving),
@@ -785,7 +805,7 @@ impl<'a> Prover<'a> {
             polygon.len() >= 3
                 && sides(polygon).any(|(x, y)| {
                     let inward = sign * n.cross(y - x) / x.distance(y);
-                    others.iter().all(|q| dot(point(inward), *q).hi < inward.dot(x) - s)
+                    others.iter().all(|q| dot(point(inward), *q).hi < inward.dot(x) + reach)
                 })
         };
         let fixed_normal = plane_of(&self.a, overlap.fixed);
@@ -1315,6 +1335,46 @@ mod tests {
         // Another face, or another corner, is not.
         assert!(!together(&[contact("f5", "v0", K::FaceVertex)]));
         assert!(!together(&[contact("f3", "v7", K::FaceVertex)]));
+    }
+
+    #[test]
+    fn a_face_on_a_face_needs_an_overlap_wider_than_the_loose_tolerance() {
+        // The peg's bottom face (f2, x and y from 36 to 64 in its frame, z = 10) flat on
+        // the plain hole's top face (f3, z = 50, around the hole from 35 to 65): shifted
+        // by y = 1 the bottom meets the top face only along the rim edge's line, an
+        // overlap no reading keeps; shifted by 1.2 it overlaps a strip 0.2 wide.
+        use crate::contact::ContactKind as K;
+        use crate::feasibility::{LOOSE_CONTACT_REL, Problem};
+        use crate::testing::contact;
+        let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let bounds = Bounds::try_new([-2.0, -2.0, 0.0, -0.02, -0.02, 0.0], [2.0, 2.0, 45.0, 0.02, 0.02, 0.0]).unwrap();
+        let problem = Problem::new(&hole, &peg, bounds, DAffine3::IDENTITY);
+        let flat = [contact("f3", "f2", K::FaceFace)];
+        let at = |y: f64| [0.2, y, 40.0, 0.0, 0.0, 0.0];
+        let read = |x: [f64; 6], tolerance: f64| {
+            let placed = Pose::from_array(x).to_affine(&DAffine3::IDENTITY);
+            problem.scene().state(&placed, tolerance).contacts.contains(&flat[0])
+        };
+        let point = |x: [f64; 6]| Bounds::try_new(x, x).unwrap();
+        // On the rim's line: neither reading has the faces on each other, and the
+        // last proofs rule the pose out.
+        assert!(!read(at(1.0), LOOSE_CONTACT_REL));
+        assert!(problem.last_exclusion(&flat, &point(at(1.0))).is_some());
+        // A box reaching 1e-5 past the rim (a strip far thinner than the loose
+        // tolerance, 1.5e-4): still ruled out.
+        let mut past = at(1.0 + 1e-5);
+        past[3] = 1e-8;
+        let mut before = at(0.99);
+        before[3] = -1e-8;
+        assert!(
+            problem
+                .last_exclusion(&flat, &Bounds::try_new(before, past).unwrap())
+                .is_some()
+        );
+        // Over a strip 0.2 wide both readings have the face on the face, and the rule
+        // stands down.
+        assert!(read(at(1.2), CONTACT_REL) && read(at(1.2), LOOSE_CONTACT_REL));
+        assert!(problem.last_exclusion(&flat, &point(at(1.2))).is_none());
     }
 
     #[test]
