@@ -77,11 +77,19 @@ pub(crate) struct Links {
 struct Overlap {
     fixed: ElementId,
     moving: ElementId,
-    /// How far inside some side of one element's convex part the other's corners must
-    /// all reach for the two to share a point there: `-slack` (they may touch at the
-    /// side), or for a face on a face a quarter of the loose reading's tolerance (see
-    /// [`Prover::may_overlap`]).
-    reach: f64,
+    /// How far the loose reading asks the two to overlap ([`Prover::may_overlap`]).
+    thin: Thin,
+}
+
+/// How far inside a side of a face's convex part the other element's corners must all
+/// reach for the two to share a point there that the loose reading keeps.
+#[derive(Clone, Copy, Debug)]
+enum Thin {
+    /// A face on a face: this far inside every side.
+    Overlap(f64),
+    /// A vertex or an edge on a face: this far (times the side's `side_sine`) inside a
+    /// side on the face's rim; beyond a diagonal of its cover by at most the slack.
+    Rim(f64),
 }
 
 impl Links {
@@ -260,23 +268,32 @@ pub(super) struct ConvexPart {
     /// Its Newell normal (the corners' turning sense), kept: the tests of a box ask
     /// for it every time.
     normal: DVec3,
+    /// Per side, the lesser `min(1, sin α)` of the corner angles α at its two ends: a
+    /// point of the part within `d` of the side's line lies within `d / side_sine` of
+    /// the side.
+    side_sine: Vec<f64>,
 }
 
 impl ConvexPart {
     fn new(corners: Vec<DVec3>, inner: Vec<bool>) -> ConvexPart {
         let k = corners.len();
-        let sharpest = (0..k)
+        let angles: Vec<f64> = (0..k)
             .map(|i| {
                 let (prev, at, next) = (corners[(i + k - 1) % k], corners[i], corners[(i + 1) % k]);
-                let angle = (prev - at).angle_between(next - at);
-                (0.5 * angle).sin()
+                (prev - at).angle_between(next - at)
             })
-            .fold(1.0, f64::min);
+            .collect();
+        let finite = |x: f64| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+        let sharpest = finite(angles.iter().map(|&a| (0.5 * a).sin()).fold(1.0, f64::min));
+        let side_sine = (0..k)
+            .map(|i| finite(angles[i].sin().min(angles[(i + 1) % k].sin())))
+            .collect();
         ConvexPart {
             normal: newell(corners.iter().copied()),
             corners,
             inner,
-            sharpest: if sharpest.is_finite() { sharpest.max(0.0) } else { 0.0 },
+            sharpest,
+            side_sine,
         }
     }
 
@@ -511,10 +528,9 @@ impl<'a> Prover<'a> {
             .map(|pc| Overlap {
                 fixed: pc.fixed,
                 moving: pc.moving,
-                reach: if pc.kind == ContactKind::FaceFace {
-                    0.25 * self.loose
-                } else {
-                    -self.slack
+                thin: match pc.kind {
+                    ContactKind::FaceFace => Thin::Overlap(0.25 * self.loose),
+                    _ => Thin::Rim(0.5 * self.loose),
                 },
             })
             .collect();
@@ -769,19 +785,23 @@ impl<'a> Prover<'a> {
     }
 
     /// Whether the two elements of a contact of a vertex on a face, along a segment or
-    /// over an area may share a point somewhere in the box: false when, for every
-    /// convex part of each, a side of one has every corner of the other strictly
-    /// outside it (the line of that side then separates the parts).
+    /// over an area may share a point somewhere in the box that the loose reading,
+    /// which a witness must agree with ([`super::witness_flaw`]), keeps: false when,
+    /// for every convex part of each, a side of one has every corner of the other
+    /// outside it, or too little inside it ([`Thin`]). Each element is taken as the
+    /// convex parts of its face, its edge as a part of two corners, its vertex as a
+    /// part of one.
     ///
-    /// A face on a face must share more than a point: the loose reading, which a
-    /// witness must agree with ([`super::witness_flaw`]), keeps a piece of their overlap
-    /// only where it is wider than its tolerance (twice its area over its perimeter).
-    /// When every pair of convex parts meets at most within a quarter of that
-    /// tolerance of a side (the other's corners all within it), the overlap lies in
-    /// strips that thin and no piece of it is kept: that reading has no face on face. Each element is taken as the convex parts
-    /// of its face, its edge as a part of two corners, its vertex as a part of one.
+    /// That reading keeps a piece of two faces' overlap only where it is wider than
+    /// its tolerance (twice its area over its perimeter, each piece within one triangle
+    /// of each face's cover, so within one pair of parts): when every pair meets at
+    /// most a quarter of that tolerance inside a side, no piece is kept. It keeps a
+    /// vertex or a stretch of an edge on a face only farther than its tolerance from
+    /// the face's boundary: when in every part of the face the vertex or edge lies
+    /// outside a side, or within half that tolerance (times the side's `side_sine`)
+    /// inside a side on the rim, none is kept.
     fn may_overlap(&self, overlap: &Overlap, r: &IntervalMat, t: &IVec) -> bool {
-        let reach = overlap.reach;
+        let slack = self.slack;
         let (fixed, moving) = (
             convex_parts_of(self.fixed, &self.a, overlap.fixed),
             convex_parts_of(self.moving, &self.b, overlap.moving),
@@ -798,14 +818,21 @@ impl<'a> Prover<'a> {
             let d = sub(point(p), *t);
             std::array::from_fn(|i| dot(rt[i], d))
         };
-        // Some side of `polygon` (in a face of normal `n`) has every point strictly
-        // outside it.
-        let separates = |(polygon, normal): &(Cow<[DVec3]>, DVec3), n: DVec3, others: &[IVec]| {
-            let sign = normal.dot(n).signum();
-            polygon.len() >= 3
-                && sides(polygon).any(|(x, y)| {
+        // How far inside side `k` of `part` the other's corners must reach.
+        let reach = |part: &PartOf<'_>, k: usize| match overlap.thin {
+            Thin::Overlap(d) => d,
+            Thin::Rim(d) if !part.inner[k] => (d * part.side_sine[k]).max(-slack),
+            Thin::Rim(_) => -slack,
+        };
+        // Some side of `polygon` (in a face of normal `n`) has every point outside it,
+        // or too little inside.
+        let separates = |part: &PartOf<'_>, n: DVec3, others: &[IVec]| {
+            let sign = part.normal.dot(n).signum();
+            part.corners.len() >= 3
+                && sides(&part.corners).enumerate().any(|(k, (x, y))| {
                     let inward = sign * n.cross(y - x) / x.distance(y);
-                    others.iter().all(|q| dot(point(inward), *q).hi < inward.dot(x) + reach)
+                    let least = inward.dot(x) + reach(part, k);
+                    others.iter().all(|q| dot(point(inward), *q).hi < least)
                 })
         };
         let fixed_normal = plane_of(&self.a, overlap.fixed);
@@ -813,11 +840,11 @@ impl<'a> Prover<'a> {
         // Each part's corners carried to the other frame once, not once per pair.
         let moving_placed: Vec<Vec<IVec>> = moving
             .iter()
-            .map(|q| q.0.iter().map(|&c| placed(c)).collect())
+            .map(|q| q.corners.iter().map(|&c| placed(c)).collect())
             .collect();
         let fixed_back: Vec<Vec<IVec>> = fixed
             .iter()
-            .map(|p| p.0.iter().map(|&c| brought_back(c)).collect())
+            .map(|p| p.corners.iter().map(|&c| brought_back(c)).collect())
             .collect();
         fixed.iter().zip(&fixed_back).any(|(p, p_back)| {
             moving.iter().zip(&moving_placed).any(|(q, q_placed)| {
@@ -1208,17 +1235,37 @@ fn over_face(parts: &[ConvexPart], n: DVec3, p: &IVec, margin: f64) -> bool {
 
 /// An element's convex parts, each as its corners and their Newell normal: a face's
 /// cover, an edge as a part of two corners, a vertex as a part of one (normal zero).
-fn convex_parts_of<'s>(part: &Part, shape: &'s Shape, e: ElementId) -> Vec<(Cow<'s, [DVec3]>, DVec3)> {
+/// One convex part of an element, as [`Prover::may_overlap`] sees it.
+struct PartOf<'s> {
+    corners: Cow<'s, [DVec3]>,
+    normal: DVec3,
+    /// Per side, whether it is a diagonal of the face's cover, and the sine of its
+    /// sharper end (see [`ConvexPart`]); empty for an edge or a vertex.
+    inner: Cow<'s, [bool]>,
+    side_sine: Cow<'s, [f64]>,
+}
+
+fn convex_parts_of<'s>(part: &Part, shape: &'s Shape, e: ElementId) -> Vec<PartOf<'s>> {
+    let single = |corners: Vec<DVec3>| PartOf {
+        corners: Cow::Owned(corners),
+        normal: DVec3::ZERO,
+        inner: Cow::Owned(Vec::new()),
+        side_sine: Cow::Owned(Vec::new()),
+    };
     match e {
         ElementId::Face(f) => shape.convex_parts[f.index()]
             .iter()
-            .map(|c| (Cow::Borrowed(&c.corners[..]), c.normal))
+            .map(|c| PartOf {
+                corners: Cow::Borrowed(&c.corners[..]),
+                normal: c.normal,
+                inner: Cow::Borrowed(&c.inner[..]),
+                side_sine: Cow::Borrowed(&c.side_sine[..]),
+            })
             .collect(),
-        ElementId::Edge(x) => vec![(
-            Cow::Owned(part.edge(x).vertices.map(|v| shape.vertices[v.index()]).to_vec()),
-            DVec3::ZERO,
+        ElementId::Edge(x) => vec![single(
+            part.edge(x).vertices.map(|v| shape.vertices[v.index()]).to_vec(),
         )],
-        ElementId::Vertex(v) => vec![(Cow::Owned(vec![shape.vertices[v.index()]]), DVec3::ZERO)],
+        ElementId::Vertex(v) => vec![single(vec![shape.vertices[v.index()]])],
     }
 }
 
@@ -1375,6 +1422,46 @@ mod tests {
         // stands down.
         assert!(read(at(1.2), CONTACT_REL) && read(at(1.2), LOOSE_CONTACT_REL));
         assert!(problem.last_exclusion(&flat, &point(at(1.2))).is_none());
+    }
+
+    #[test]
+    fn an_edge_on_a_face_keeps_clear_of_the_faces_rim_as_the_loose_reading_asks() {
+        // The peg tilted by 0.01 rad about y, its lowest bottom edge (e9, along y) lying
+        // on the plain hole's top face (f3, z = 50), `past` beyond the hole's rim edge
+        // (x = 65). The top face has a hole, so its box says nothing of the rim: the
+        // rule reads its cover's sides on the rim.
+        use crate::contact::ContactKind as K;
+        use crate::feasibility::{LOOSE_CONTACT_REL, Problem};
+        use crate::testing::contact;
+        let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let bounds = Bounds::try_new([-2.0, -2.0, 0.0, -0.02, -0.02, 0.0], [2.0, 2.0, 45.0, 0.02, 0.02, 0.0]).unwrap();
+        let problem = Problem::new(&hole, &peg, bounds, DAffine3::IDENTITY);
+        let on_top = [contact("f3", "e9", K::FaceEdge)];
+        let tilt: f64 = 0.01;
+        let at = |past: f64| {
+            let x = 65.0 + past - 64.0 * tilt.cos() - 10.0 * tilt.sin();
+            let z = 50.0 + 64.0 * tilt.sin() - 10.0 * tilt.cos();
+            [x, 0.0, z, 0.0, tilt, 0.0]
+        };
+        let read = |x: [f64; 6], tolerance: f64| {
+            let placed = Pose::from_array(x).to_affine(&DAffine3::IDENTITY);
+            problem.scene().state(&placed, tolerance).contacts
+        };
+        let point = |x: [f64; 6]| Bounds::try_new(x, x).unwrap();
+        let loose = scaled(LOOSE_CONTACT_REL, problem.scale);
+        // A fifth of the loose tolerance past the rim: the strict reading has the edge
+        // on the face, the loose one has it along the rim edge instead, and the last
+        // proofs rule the pose out.
+        let near = at(0.2 * loose);
+        assert_eq!(read(near, CONTACT_REL), on_top);
+        assert!(!read(near, LOOSE_CONTACT_REL).contains(&on_top[0]));
+        assert!(problem.last_exclusion(&on_top, &point(near)).is_some());
+        // Half a millimetre past it, a witness: both readings agree, and the rule
+        // stands down.
+        let far = at(0.5);
+        assert_eq!(read(far, CONTACT_REL), on_top);
+        assert_eq!(read(far, LOOSE_CONTACT_REL), on_top);
+        assert!(problem.last_exclusion(&on_top, &point(far)).is_none());
     }
 
     #[test]
