@@ -1391,37 +1391,33 @@ mod tests {
         // by y = 1 the bottom meets the top face only along the rim edge's line, an
         // overlap no reading keeps; shifted by 1.2 it overlaps a strip 0.2 wide.
         use crate::contact::ContactKind as K;
-        use crate::feasibility::{LOOSE_CONTACT_REL, Problem};
+        use crate::feasibility::LOOSE_CONTACT_REL;
         use crate::testing::contact;
-        let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let bounds = Bounds::try_new([-2.0, -2.0, 0.0, -0.02, -0.02, 0.0], [2.0, 2.0, 45.0, 0.02, 0.02, 0.0]).unwrap();
-        let problem = Problem::new(&hole, &peg, bounds, DAffine3::IDENTITY);
-        let flat = [contact("f3", "f2", K::FaceFace)];
-        let at = |y: f64| [0.2, y, 40.0, 0.0, 0.0, 0.0];
-        let read = |x: [f64; 6], tolerance: f64| {
-            let placed = Pose::from_array(x).to_affine(&DAffine3::IDENTITY);
-            problem.scene().state(&placed, tolerance).contacts.contains(&flat[0])
-        };
-        let point = |x: [f64; 6]| Bounds::try_new(x, x).unwrap();
-        // On the rim's line: neither reading has the faces on each other, and the
-        // last proofs rule the pose out.
-        assert!(!read(at(1.0), LOOSE_CONTACT_REL));
-        assert!(problem.last_exclusion(&flat, &point(at(1.0))).is_some());
-        // A box reaching 1e-5 past the rim (a strip far thinner than the loose
-        // tolerance, 1.5e-4): still ruled out.
-        let mut past = at(1.0 + 1e-5);
-        past[3] = 1e-8;
-        let mut before = at(0.99);
-        before[3] = -1e-8;
-        assert!(
-            problem
-                .last_exclusion(&flat, &Bounds::try_new(before, past).unwrap())
-                .is_some()
-        );
-        // Over a strip 0.2 wide both readings have the face on the face, and the rule
-        // stands down.
-        assert!(read(at(1.2), CONTACT_REL) && read(at(1.2), LOOSE_CONTACT_REL));
-        assert!(problem.last_exclusion(&flat, &point(at(1.2))).is_none());
+        with_peg_over_the_plain_hole(|problem| {
+            let flat = [contact("f3", "f2", K::FaceFace)];
+            let at = |y: f64| [0.2, y, 40.0, 0.0, 0.0, 0.0];
+            let read = |x: [f64; 6], tolerance: f64| read_at(problem, x, tolerance).contains(&flat[0]);
+            let point = |x: [f64; 6]| Bounds::try_new(x, x).unwrap();
+            // On the rim's line: neither reading has the faces on each other, and the
+            // last proofs rule the pose out.
+            assert!(!read(at(1.0), LOOSE_CONTACT_REL));
+            assert!(problem.last_exclusion(&flat, &point(at(1.0))).is_some());
+            // A box reaching 1e-5 past the rim (a strip far thinner than the loose
+            // tolerance, 1.5e-4): still ruled out.
+            let mut past = at(1.0 + 1e-5);
+            past[3] = 1e-8;
+            let mut before = at(0.99);
+            before[3] = -1e-8;
+            assert!(
+                problem
+                    .last_exclusion(&flat, &Bounds::try_new(before, past).unwrap())
+                    .is_some()
+            );
+            // Over a strip 0.2 wide both readings have the face on the face, and the rule
+            // stands down.
+            assert!(read(at(1.2), CONTACT_REL) && read(at(1.2), LOOSE_CONTACT_REL));
+            assert!(problem.last_exclusion(&flat, &point(at(1.2))).is_none());
+        });
     }
 
     #[test]
@@ -1431,37 +1427,52 @@ mod tests {
         // (x = 65). The top face has a hole, so its box says nothing of the rim: the
         // rule reads its cover's sides on the rim.
         use crate::contact::ContactKind as K;
-        use crate::feasibility::{LOOSE_CONTACT_REL, Problem};
+        use crate::feasibility::LOOSE_CONTACT_REL;
         use crate::testing::contact;
+        with_peg_over_the_plain_hole(|problem| {
+            let on_top = [contact("f3", "e9", K::FaceEdge)];
+            let tilt: f64 = 0.01;
+            let at = |past: f64| {
+                let x = 65.0 + past - 64.0 * tilt.cos() - 10.0 * tilt.sin();
+                let z = 50.0 + 64.0 * tilt.sin() - 10.0 * tilt.cos();
+                [x, 0.0, z, 0.0, tilt, 0.0]
+            };
+            let read = |x: [f64; 6], tolerance: f64| read_at(problem, x, tolerance);
+            let point = |x: [f64; 6]| Bounds::try_new(x, x).unwrap();
+            let loose = scaled(LOOSE_CONTACT_REL, problem.scale);
+            // A fifth of the loose tolerance past the rim: the strict reading has the edge
+            // on the face, the loose one has it along the rim edge instead, and the last
+            // proofs rule the pose out.
+            let near = at(0.2 * loose);
+            assert_eq!(read(near, CONTACT_REL), on_top);
+            assert!(!read(near, LOOSE_CONTACT_REL).contains(&on_top[0]));
+            assert!(problem.last_exclusion(&on_top, &point(near)).is_some());
+            // Half a millimetre past it, a witness: both readings agree, and the rule
+            // stands down.
+            let far = at(0.5);
+            assert_eq!(read(far, CONTACT_REL), on_top);
+            assert_eq!(read(far, LOOSE_CONTACT_REL), on_top);
+            assert!(problem.last_exclusion(&on_top, &point(far)).is_none());
+        });
+    }
+
+    /// The plain hole (fixed) and the square peg, x and y within ±2, z from 0 to 45,
+    /// tilted up to 0.02 rad about x and y, no yaw.
+    fn with_peg_over_the_plain_hole<T>(f: impl FnOnce(&crate::feasibility::Problem<'_>) -> T) -> T {
         let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
         let bounds = Bounds::try_new([-2.0, -2.0, 0.0, -0.02, -0.02, 0.0], [2.0, 2.0, 45.0, 0.02, 0.02, 0.0]).unwrap();
-        let problem = Problem::new(&hole, &peg, bounds, DAffine3::IDENTITY);
-        let on_top = [contact("f3", "e9", K::FaceEdge)];
-        let tilt: f64 = 0.01;
-        let at = |past: f64| {
-            let x = 65.0 + past - 64.0 * tilt.cos() - 10.0 * tilt.sin();
-            let z = 50.0 + 64.0 * tilt.sin() - 10.0 * tilt.cos();
-            [x, 0.0, z, 0.0, tilt, 0.0]
-        };
-        let read = |x: [f64; 6], tolerance: f64| {
-            let placed = Pose::from_array(x).to_affine(&DAffine3::IDENTITY);
-            problem.scene().state(&placed, tolerance).contacts
-        };
-        let point = |x: [f64; 6]| Bounds::try_new(x, x).unwrap();
-        let loose = scaled(LOOSE_CONTACT_REL, problem.scale);
-        // A fifth of the loose tolerance past the rim: the strict reading has the edge
-        // on the face, the loose one has it along the rim edge instead, and the last
-        // proofs rule the pose out.
-        let near = at(0.2 * loose);
-        assert_eq!(read(near, CONTACT_REL), on_top);
-        assert!(!read(near, LOOSE_CONTACT_REL).contains(&on_top[0]));
-        assert!(problem.last_exclusion(&on_top, &point(near)).is_some());
-        // Half a millimetre past it, a witness: both readings agree, and the rule
-        // stands down.
-        let far = at(0.5);
-        assert_eq!(read(far, CONTACT_REL), on_top);
-        assert_eq!(read(far, LOOSE_CONTACT_REL), on_top);
-        assert!(problem.last_exclusion(&on_top, &point(far)).is_none());
+        f(&crate::feasibility::Problem::new(
+            &hole,
+            &peg,
+            bounds,
+            DAffine3::IDENTITY,
+        ))
+    }
+
+    /// The state read at `x` with the given relative tolerance.
+    fn read_at(problem: &crate::feasibility::Problem<'_>, x: [f64; 6], tolerance: f64) -> Vec<PrincipalContact> {
+        let placed = Pose::from_array(x).to_affine(&DAffine3::IDENTITY);
+        problem.scene().state(&placed, tolerance).contacts
     }
 
     #[test]
