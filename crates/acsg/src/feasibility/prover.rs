@@ -1233,8 +1233,6 @@ fn over_face(parts: &[ConvexPart], n: DVec3, p: &IVec, margin: f64) -> bool {
     })
 }
 
-/// An element's convex parts, each as its corners and their Newell normal: a face's
-/// cover, an edge as a part of two corners, a vertex as a part of one (normal zero).
 /// One convex part of an element, as [`Prover::may_overlap`] sees it.
 struct PartOf<'s> {
     corners: Cow<'s, [DVec3]>,
@@ -1245,6 +1243,8 @@ struct PartOf<'s> {
     side_sine: Cow<'s, [f64]>,
 }
 
+/// An element's convex parts, each as its corners and their Newell normal: a face's
+/// cover, an edge as a part of two corners, a vertex as a part of one (normal zero).
 fn convex_parts_of<'s>(part: &Part, shape: &'s Shape, e: ElementId) -> Vec<PartOf<'s>> {
     let single = |corners: Vec<DVec3>| PartOf {
         corners: Cow::Owned(corners),

@@ -54,6 +54,16 @@ struct Askew {
     along: Option<(DVec3, DVec3)>,
 }
 
+impl Askew {
+    /// Whether some rotation enclosed by `r` may keep the two edges apart enough.
+    fn may_hold(&self, r: &IntervalMat) -> bool {
+        self.components.iter().any(|&(n, d)| {
+            let v = value(r, n, d);
+            v.hi > self.least || v.lo < -self.least
+        }) || self.along.is_some_and(|(n, d)| value(r, n, d).lo <= 0.0)
+    }
+}
+
 /// A face of each part at two edges in contact that must not lie flush (then the
 /// faces overlap, face on face): excluded when `R m = −n` to `slack` in every
 /// component (`(e_k, m)` values plus `n_k`) and, with `side`, the faces also turn to
@@ -193,12 +203,7 @@ impl Turns {
             let v = value(&r, t.n, t.d);
             v.lo <= t.lo || v.hi >= t.hi
         }) && self.wedges.iter().all(|w| w.sides(&r).0)
-            && self.askew.iter().all(|a| {
-                a.components.iter().any(|&(n, d)| {
-                    let v = value(&r, n, d);
-                    v.hi > a.least || v.lo < -a.least
-                }) || a.along.is_some_and(|(n, d)| value(&r, n, d).lo <= 0.0)
-            })
+            && self.askew.iter().all(|a| a.may_hold(&r))
             && self.lying.iter().all(|l| {
                 let v = value(&r, l.flat.n, l.flat.d);
                 v.lo <= l.flat.lo || v.hi >= l.flat.hi || value(&r, l.into.0, l.into.1).lo <= 0.0
@@ -1105,13 +1110,7 @@ mod tests {
         );
         let askew_holds = |x: [f64; 6]| {
             let r = rotation_enclosure(&Bounds::try_new(x, x).unwrap());
-            let turns = problem.turns(&[crossing]);
-            turns.askew.iter().all(|a| {
-                a.components.iter().any(|&(n, d)| {
-                    let v = value(&r, n, d);
-                    v.hi > a.least || v.lo < -a.least
-                })
-            })
+            problem.turns(&[crossing]).askew.iter().all(|a| a.may_hold(&r))
         };
         assert!(!askew_holds(x));
         // Turned 1e-4 rad, the ends stand 5e-3 mm and more off the other's line, far
