@@ -821,7 +821,7 @@ impl<'a> Prover<'a> {
         // How far inside side `k` of `part` the other's corners must reach.
         let reach = |part: &PartOf<'_>, k: usize| match overlap.thin {
             Thin::Overlap(d) => d,
-            Thin::Rim(d) if !part.inner[k] => (d * part.side_sine[k]).max(-slack),
+            Thin::Rim(d) if !part.inner[k] => d * part.side_sine[k],
             Thin::Rim(_) => -slack,
         };
         // Some side of `polygon` (in a face of normal `n`) has every point outside it,
