@@ -17,7 +17,7 @@ use super::interval::{Interval, IntervalMat, rotation_enclosure, turned_value as
 use super::pierce::{Crossing, Pierce};
 use super::prover::{face_untouched, implied};
 use crate::contact::{ContactKind, PrincipalContact};
-use crate::geometry::Aabb;
+use crate::geometry::{Aabb, Segment, segment_segment};
 use crate::model::{EdgeId, ElementId, FaceId, Part, VertexId};
 use crate::pose::{Bounds, Pose};
 use crate::tolerance::{CONTACT_REL, MIN_TILT, ROTATION_PROBE, SEPARATION_REL, scaled};
@@ -42,6 +42,83 @@ struct Wedge {
     /// The components of `n = d_e × R d_x` (values `n · (R d)`), when the slack holds
     /// for the unit normal `n / |n|` rather than for `n` (see [`Wedge::sides`]).
     normal: Option<[(DVec3, DVec3); 3]>,
+    /// The two edges, for how far the crossing stays from their ends over a box, when
+    /// each of their faces lies in one convex piece of its part.
+    ends: Option<Ends>,
+}
+
+/// Two crossing edges, the fixed one in G's frame and the moving one in its part's
+/// frame, the contact tolerance, and each edge's faces as the other boundary edges
+/// that bound how wide they are ([`Ends::reach`]).
+#[derive(Clone, Debug)]
+struct Ends {
+    fixed: [DVec3; 2],
+    moving: [DVec3; 2],
+    tolerance: f64,
+    /// Per edge (fixed, then moving), the edge in its part's frame and the other
+    /// boundary edges of its two faces.
+    rims: [([DVec3; 2], Vec<Segment>); 2],
+}
+
+impl Ends {
+    /// The least distance, at any pose of `b`, from the crossing (the contact within the
+    /// tolerance) to an end of either edge; zero when nothing is known.
+    fn least_from_ends(&self, b: &Bounds) -> f64 {
+        let center = b.center();
+        let (rotation, translation) = (center.rotation(), center.translation());
+        let w = b.width();
+        let shift = 0.5 * DVec3::new(w[0], w[1], w[2]).length();
+        let turn = 0.5 * (w[3] + w[4] + w[5]);
+        // The crossing lies on `on` and within `within` of the line through `line`:
+        // |s − s_c| sin θ at most that.
+        let along = |on: [DVec3; 2], line: [DVec3; 2], within: f64| {
+            let length = on[0].distance(on[1]);
+            let (d, m) = ((on[1] - on[0]) / length, (line[1] - line[0]).normalize());
+            let sine = d.cross(m).length();
+            if sine <= 1e-12 {
+                return 0.0;
+            }
+            // The closest point of `on`'s line to `line`'s.
+            let r = on[0] - line[0];
+            let (b_, c, e) = (d.dot(m), d.dot(r), m.dot(r));
+            let s = (b_ * e - c) / (1.0 - b_ * b_);
+            let half = within / sine;
+            (s - half).min(length - s - half).max(0.0)
+        };
+        let placed = self.moving.map(|p| rotation * p + translation);
+        let moving_shift = shift + turn * self.moving.iter().map(|p| p.length()).fold(0.0, f64::max);
+        let on_fixed = along(self.fixed, placed, self.tolerance + moving_shift);
+        let fixed_in_b = self.fixed.map(|p| rotation.transpose() * (p - translation));
+        let fixed_shift = shift + turn * self.fixed.iter().map(|p| p.distance(translation)).fold(0.0, f64::max);
+        let on_moving = along(self.moving, fixed_in_b, self.tolerance + fixed_shift);
+        on_fixed.min(on_moving)
+    }
+
+    /// How far along the edges from the crossing a face turned past the plane through
+    /// both surely overlaps the other part, at every pose of `b`: within half the
+    /// crossing's least distance from the edges' ends, and no farther than the edges'
+    /// faces are wide there (where the wedges overlap, the edges are at most that far
+    /// apart); zero when nothing is known.
+    fn reach(&self, b: &Bounds) -> f64 {
+        let half = 0.5 * self.least_from_ends(b);
+        if half <= 0.0 {
+            return 0.0;
+        }
+        self.rims.iter().fold(half, |reach, (edge, others)| {
+            let length = edge[0].distance(edge[1]);
+            if 2.0 * half >= length {
+                return 0.0;
+            }
+            let inner = Segment::new(
+                edge[0].lerp(edge[1], half / length),
+                edge[1].lerp(edge[0], half / length),
+            );
+            others
+                .iter()
+                .map(|other| segment_segment(&inner, other).0)
+                .fold(reach, f64::min)
+        })
+    }
 }
 
 /// Two edges whose directions must not be parallel within `least`: some component of
@@ -139,7 +216,7 @@ impl Wedge {
     /// least the separation apart at that end, so a face may turn past the plane by at
     /// most the tolerance over the separation: the slack holds for the unit normal, and
     /// near-parallel edges no longer pass every test.
-    fn sides(&self, r: &IntervalMat) -> (bool, bool) {
+    fn sides(&self, r: &IntervalMat, bounds: &Bounds) -> (bool, bool) {
         let a: Vec<Interval> = self.on_a.iter().map(|&(n, d)| value(r, n, d)).collect();
         let b: Vec<Interval> = self.on_b.iter().map(|&(n, d)| value(r, n, d)).collect();
         let s = self.normal.map_or(self.slack, |components| {
@@ -155,6 +232,13 @@ impl Wedge {
                 .sqrt();
             self.slack * length.min(1.0)
         });
+        // Turned past the plane by v (a sine, with n unnormalised), a face overlaps
+        // the other part by v times the distance along the edges, up to `reach`: the
+        // slack need only be the tolerance over that (four times it, for safety).
+        let s = match self.ends.as_ref().map(|ends| (ends.reach(bounds), ends.tolerance)) {
+            Some((reach, tolerance)) if reach > 0.0 => s.min(4.0 * tolerance / reach),
+            _ => s,
+        };
         let may = |sign: f64| {
             a.iter().all(|v| if sign > 0.0 { v.lo <= s } else { v.hi >= -s })
                 && b.iter().all(|v| if sign > 0.0 { v.hi >= -s } else { v.lo <= s })
@@ -202,7 +286,7 @@ impl Turns {
         }) && self.avoid.iter().all(|t| {
             let v = value(&r, t.n, t.d);
             v.lo <= t.lo || v.hi >= t.hi
-        }) && self.wedges.iter().all(|w| w.sides(&r).0)
+        }) && self.wedges.iter().all(|w| w.sides(&r, b).0)
             && self.askew.iter().all(|a| a.may_hold(&r))
             && self.lying.iter().all(|l| {
                 let v = value(&r, l.flat.n, l.flat.d);
@@ -303,7 +387,7 @@ impl Turns {
             }
         }
         for w in &self.wedges {
-            if !w.sides(&r).1 {
+            if !w.sides(&r, b).1 {
                 terms.extend(w.on_a.iter().chain(&w.on_b));
             }
         }
@@ -548,6 +632,7 @@ impl Problem<'_> {
                     // for safety.
                     slack: tilt(le.min(lx)).max(LEVER_SLACK),
                     normal: ends_apart.then_some(components),
+                    ends: self.ends(e, x),
                 });
                 // And where a face dips past that plane, the other edge runs on into
                 // the face's part: as deep as the part's faces allow over the edge's
@@ -793,6 +878,47 @@ fn reflex_directions(part: &Part, e: ElementId) -> Vec<DVec3> {
 }
 
 /// The diagonal of a face's bounding box.
+impl Problem<'_> {
+    /// The crossing edges `e` (fixed) and `x` (moving) for [`Wedge::ends`]; `None`
+    /// unless each of their faces lies in one convex piece of its part (the overlap
+    /// beneath a face then lies in that piece, and the penetration test, piece by
+    /// piece, sees its whole depth).
+    fn ends(&self, e: EdgeId, x: EdgeId) -> Option<Ends> {
+        let eps = scaled(CONTACT_REL, self.scale);
+        let rim = |part: &Part, edge: EdgeId| -> Option<([DVec3; 2], Vec<Segment>)> {
+            let mut others = Vec::new();
+            for &f in &part.edge(edge).faces {
+                let corners = part.closure_vertices(ElementId::Face(f));
+                let whole = part.convex_pieces().iter().any(|piece| {
+                    corners
+                        .iter()
+                        .all(|&v| piece.outside_distance(part.vertex(v).position) <= eps)
+                });
+                if !whole {
+                    return None;
+                }
+                others.extend(
+                    part.closure_edges(ElementId::Face(f))
+                        .into_iter()
+                        .filter(|&other| other != edge)
+                        .map(|other| {
+                            let [p, q] = part.edge_points(other);
+                            Segment::new(p, q)
+                        }),
+                );
+            }
+            Some((part.edge_points(edge), others))
+        };
+        let [e0, e1] = self.fixed.edge_points(e);
+        Some(Ends {
+            fixed: [e0, e1].map(|p| self.prover.fixed_point(p)),
+            moving: self.moving.edge_points(x),
+            tolerance: scaled(CONTACT_REL, self.scale),
+            rims: [rim(self.fixed, e)?, rim(self.moving, x)?],
+        })
+    }
+}
+
 fn diameter(part: &Part, f: FaceId) -> f64 {
     let corners = part.closure_vertices(ElementId::Face(f));
     Aabb::around(corners.iter().map(|&v| part.vertex(v).position)).diagonal()
@@ -830,7 +956,48 @@ mod tests {
         let at_far = Bounds::try_new(far, far).unwrap();
         let only_crossing = [crate::testing::contact("e10", "e10", K::EdgeEdge)];
         let turns = problem.turns(&only_crossing);
-        assert!(turns.wedges.iter().any(|w| !w.sides(&rotation_enclosure(&at_far)).0));
+        assert!(
+            turns
+                .wedges
+                .iter()
+                .any(|w| !w.sides(&rotation_enclosure(&at_far), &at_far).0)
+        );
+    }
+
+    #[test]
+    fn a_face_turned_into_the_wall_far_from_the_edges_ends_is_excluded() {
+        // The box against the L-block's wall, tilted 0.1 rad about x, its top right edge
+        // crossing the wall's top edge 35 mm from its nearer end, 40 mm from the box
+        // edge's. Turned 1e-4 rad about z as well, the box's side dips into the wall
+        // (or the wall's top into the box) by about 1e-5 times the distance along the
+        // edges: far within the lever slack, which allows for an end as near as the
+        // prover's margin. With the crossing known to stay that far from the ends, and
+        // the faces that wide, the slack is the tolerance over that distance.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let crossing = [crate::testing::contact("e10", "e10", K::EdgeEdge)];
+        let turns = problem.turns(&crossing);
+        let rx: f64 = -0.1;
+        let at = |rz: f64| {
+            let pose = [0.0, 0.0, 150.0 - (50.0 * rx.sin() + 150.0 * rx.cos()), rx, 0.0, rz];
+            Bounds::try_new(pose, pose).unwrap()
+        };
+        let sides = |wedge: &Wedge, b: &Bounds| wedge.sides(&rotation_enclosure(b), b).0;
+        let without_ends = |wedge: &Wedge| Wedge {
+            ends: None,
+            ..wedge.clone()
+        };
+        // Half the crossing's distance from the wall edge's far end (35.3 mm there).
+        let reach = turns.wedges[0].ends.as_ref().map(|ends| ends.reach(&at(1e-4)));
+        assert!(reach.is_some_and(|r| r > 17.0 && r < 17.7), "{reach:?}");
+        for rz in [1e-4, -1e-4] {
+            let b = at(rz);
+            assert!(turns.wedges.iter().any(|w| !sides(w, &b)), "rz {rz}");
+            assert!(turns.wedges.iter().all(|w| sides(&without_ends(w), &b)), "rz {rz}");
+        }
+        // Flush (the box's side on the wall, face on face), the plane through the edges
+        // separates the wedges.
+        assert!(turns.wedges.iter().all(|w| sides(w, &at(0.0))));
     }
 
     #[test]
