@@ -80,8 +80,8 @@ impl Ends {
             }
             // The closest point of `on`'s line to `line`'s.
             let r = on[0] - line[0];
-            let (b_, c, e) = (d.dot(m), d.dot(r), m.dot(r));
-            let s = (b_ * e - c) / (1.0 - b_ * b_);
+            let (cosine, c, e) = (d.dot(m), d.dot(r), m.dot(r));
+            let s = (cosine * e - c) / (1.0 - cosine * cosine);
             let half = within / sine;
             (s - half).min(length - s - half).max(0.0)
         };
