@@ -232,22 +232,29 @@ impl Wedge {
                 .sqrt();
             self.slack * length.min(1.0)
         });
+        let verdict = |s: f64| {
+            let may = |sign: f64| {
+                a.iter().all(|v| if sign > 0.0 { v.lo <= s } else { v.hi >= -s })
+                    && b.iter().all(|v| if sign > 0.0 { v.hi >= -s } else { v.lo <= s })
+            };
+            let sure = |sign: f64| {
+                a.iter().all(|v| if sign > 0.0 { v.hi <= s } else { v.lo >= -s })
+                    && b.iter().all(|v| if sign > 0.0 { v.lo >= -s } else { v.hi <= s })
+            };
+            (may(1.0) || may(-1.0), sure(1.0) || sure(-1.0))
+        };
+        let (may, sure) = verdict(s);
         // Turned past the plane by v (a sine, with n unnormalised), a face overlaps
         // the other part by v times the distance along the edges, up to `reach`: the
-        // slack need only be the tolerance over that (four times it, for safety).
-        let s = match self.ends.as_ref().map(|ends| (ends.reach(bounds), ends.tolerance)) {
-            Some((reach, tolerance)) if reach > 0.0 => s.min(4.0 * tolerance / reach),
-            _ => s,
-        };
-        let may = |sign: f64| {
-            a.iter().all(|v| if sign > 0.0 { v.lo <= s } else { v.hi >= -s })
-                && b.iter().all(|v| if sign > 0.0 { v.hi >= -s } else { v.lo <= s })
-        };
-        let sure = |sign: f64| {
-            a.iter().all(|v| if sign > 0.0 { v.hi <= s } else { v.lo >= -s })
-                && b.iter().all(|v| if sign > 0.0 { v.lo >= -s } else { v.hi <= s })
-        };
-        (may(1.0) || may(-1.0), sure(1.0) || sure(-1.0))
+        // slack need only be the tolerance over that (four times it, for safety). A
+        // smaller slack only excludes more, so it is worked out only where needed.
+        if !may {
+            return (may, sure);
+        }
+        match self.ends.as_ref().map(|ends| (ends.reach(bounds), ends.tolerance)) {
+            Some((reach, tolerance)) if reach > 0.0 && 4.0 * tolerance / reach < s => verdict(4.0 * tolerance / reach),
+            _ => (may, sure),
+        }
     }
 }
 
