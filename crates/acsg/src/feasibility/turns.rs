@@ -884,37 +884,38 @@ fn reflex_directions(part: &Part, e: ElementId) -> Vec<DVec3> {
     out
 }
 
-/// The diagonal of a face's bounding box.
 impl Problem<'_> {
     /// The crossing edges `e` (fixed) and `x` (moving) for [`Wedge::ends`]; `None`
-    /// unless each of their faces lies in one convex piece of its part (the overlap
-    /// beneath a face then lies in that piece, and the penetration test, piece by
-    /// piece, sees its whole depth).
+    /// unless, at each edge, each of its faces bounds a convex piece that holds the
+    /// edge (the overlap beneath the face near the edge then lies in that piece, and
+    /// the penetration test, piece by piece, sees its whole depth). The face's width
+    /// is that piece's facet's: a face split between pieces (the L-block's sides) is
+    /// as wide near the edge as the piece there.
     fn ends(&self, e: EdgeId, x: EdgeId) -> Option<Ends> {
         let eps = scaled(CONTACT_REL, self.scale);
         let rim = |part: &Part, edge: EdgeId| -> Option<([DVec3; 2], Vec<Segment>)> {
+            let [p, q] = part.edge_points(edge);
+            let on_line = |point: DVec3| (point - p).cross(q - p).length() <= eps * p.distance(q);
             let mut others = Vec::new();
             for &f in &part.edge(edge).faces {
-                let corners = part.closure_vertices(ElementId::Face(f));
-                let whole = part.convex_pieces().iter().any(|piece| {
-                    corners
-                        .iter()
-                        .all(|&v| piece.outside_distance(part.vertex(v).position) <= eps)
-                });
-                if !whole {
-                    return None;
-                }
+                let normal = part.face(f).normal;
+                let facet = part
+                    .convex_pieces()
+                    .iter()
+                    .filter(|piece| piece.outside_distance(p) <= eps && piece.outside_distance(q) <= eps)
+                    .flat_map(|piece| piece.faces())
+                    .find(|facet| {
+                        facet.normal.dot(normal) >= 1.0 - 1e-9 && (facet.normal.dot(p) - facet.offset).abs() <= eps
+                    })?;
+                let n = facet.points.len();
                 others.extend(
-                    part.closure_edges(ElementId::Face(f))
-                        .into_iter()
-                        .filter(|&other| other != edge)
-                        .map(|other| {
-                            let [p, q] = part.edge_points(other);
-                            Segment::new(p, q)
-                        }),
+                    (0..n)
+                        .map(|i| (facet.points[i], facet.points[(i + 1) % n]))
+                        .filter(|&(a, b)| !(on_line(a) && on_line(b)))
+                        .map(|(a, b)| Segment::new(a, b)),
                 );
             }
-            Some((part.edge_points(edge), others))
+            Some(([p, q], others))
         };
         let [e0, e1] = self.fixed.edge_points(e);
         Some(Ends {
@@ -926,6 +927,7 @@ impl Problem<'_> {
     }
 }
 
+/// The diagonal of a face's bounding box.
 fn diameter(part: &Part, f: FaceId) -> f64 {
     let corners = part.closure_vertices(ElementId::Face(f));
     Aabb::around(corners.iter().map(|&v| part.vertex(v).position)).diagonal()
