@@ -184,6 +184,10 @@ const HALVING_BUDGET: usize = 6144;
 /// as the arc they sweep) that it cannot exclude: the limit poses of larger states that
 /// leave a candidate undecided stay open however small the box.
 const HALVING_FLOOR_REL: f64 = 4e-4;
+/// Slabs [`Problem::trim`] tries from each end of an angle's range, at most.
+const TRIM_STEPS: usize = 24;
+/// The thinnest slab [`Problem::trim`] tries, as a share of what is left.
+const TRIM_LEAST: f64 = 1.0 / 4096.0;
 /// A box of rotations that survives is searched by optimisation every this many
 /// levels of depth (three: each angle halved once).
 const SEARCH_EVERY: u32 = 3;
@@ -541,7 +545,14 @@ impl Problem<'_> {
                     rules.insert(rule);
                 }
                 Ok(narrowed) => {
-                    let k = self.prover.widest_above(&narrowed, 0..6, floor)?;
+                    let Some(k) = self.prover.widest_above(&narrowed, 0..6, floor) else {
+                        // At the floor, a last try: the angles cut down to where the
+                        // tests leave them open, a thin slab the box's own tests miss.
+                        let trimmed = self.trim(target, conditions, &narrowed);
+                        let rule = self.exclude(target, conditions, Mode::All, &trimmed, true).err()?;
+                        rules.insert(rule);
+                        continue;
+                    };
                     // The half holding `toward` is examined first: a box that stays
                     // open is found early where there is one.
                     let mut split = halves(&narrowed, k);
@@ -552,6 +563,42 @@ impl Problem<'_> {
             }
         }
         Some(Proof { rules, boxes: examined })
+    }
+
+    /// The box with slabs of its angles cut off from either end where the exclusion
+    /// tests rule them out, each half of what is left, then thinner ones (as
+    /// [`Turns::shave`] does with the rotation conditions alone). Each slab is cut at
+    /// most to half of what is left, so something is always left.
+    fn trim(&self, target: &[PrincipalContact], conditions: &Conditions, b: &Bounds) -> Bounds {
+        let (mut lo, mut hi) = (b.min.to_array(), b.max.to_array());
+        let excluded = |lo: [f64; 6], hi: [f64; 6]| {
+            Bounds::try_new(lo, hi).is_ok_and(|s| self.exclude(target, conditions, Mode::All, &s, true).is_err())
+        };
+        for k in 3..6 {
+            for from_below in [true, false] {
+                let mut share = 0.5;
+                for _ in 0..TRIM_STEPS {
+                    let width = hi[k] - lo[k];
+                    if width <= 0.0 || share < TRIM_LEAST {
+                        break;
+                    }
+                    let (mut slab_lo, mut slab_hi) = (lo, hi);
+                    if from_below {
+                        slab_hi[k] = lo[k] + share * width;
+                    } else {
+                        slab_lo[k] = hi[k] - share * width;
+                    }
+                    if !excluded(slab_lo, slab_hi) {
+                        share *= 0.25;
+                    } else if from_below {
+                        lo[k] = slab_hi[k];
+                    } else {
+                        hi[k] = slab_lo[k];
+                    }
+                }
+            }
+        }
+        Bounds::try_new(lo, hi).unwrap_or(*b)
     }
 
     /// Boxes the last proofs examine when they go on from the boxes a decision left
@@ -1309,6 +1356,53 @@ mod tests {
             // With too few boxes it gives up rather than claim a proof.
             assert!(halving(problem, &mut target, 50).is_none());
         });
+    }
+
+    #[test]
+    fn a_box_at_the_halving_floor_falls_once_its_angles_are_trimmed() {
+        // The chamfered hole's corner v7 on the peg's upright edge e0, the peg turned
+        // about y and z: a box the halving reached at its floor. Whole, the tests leave
+        // it open; slabs of its angles fall one by one, and what is left falls too.
+        let (hole, peg) = (fixture("block_with_chamfered_hole.off"), fixture("peg.off"));
+        let degree = std::f64::consts::PI / 180.0;
+        let bounds = Bounds::try_new(
+            [-2.0, -2.0, 0.0, 0.0, -2.0 * degree, -degree],
+            [2.0, 2.0, 45.0, 0.0, 2.0 * degree, degree],
+        )
+        .unwrap();
+        let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
+        let target = [contact("v7", "e0", K::VertexEdge)];
+        let Ok(conditions) = problem.last_conditions(&target) else {
+            panic!("no outright rule");
+        };
+        let floor = Bounds::try_new(
+            [
+                -0.6837896054557115,
+                -0.9624535893588331,
+                33.74478398444296,
+                0.0,
+                -0.033952108105202196,
+                -0.0011801980912892925,
+            ],
+            [
+                -0.6763566519841359,
+                -0.9579094659003552,
+                33.788479605438134,
+                0.0,
+                -0.03381575425739014,
+                -0.0010530315658486289,
+            ],
+        )
+        .unwrap();
+        assert!(problem.exclude(&target, &conditions, Mode::All, &floor, true).is_ok());
+        let trimmed = problem.trim(&target, &conditions, &floor);
+        let (before, after) = (floor.width(), trimmed.width());
+        assert!((4..6).any(|k| after[k] < 0.5 * before[k]), "{trimmed:?}");
+        assert!(
+            problem
+                .exclude(&target, &conditions, Mode::All, &trimmed, true)
+                .is_err()
+        );
     }
 
     #[test]
