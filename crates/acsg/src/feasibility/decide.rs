@@ -570,34 +570,9 @@ impl Problem<'_> {
     /// [`Turns::shave`] does with the rotation conditions alone). Each slab is cut at
     /// most to half of what is left, so something is always left.
     fn trim(&self, target: &[PrincipalContact], conditions: &Conditions, b: &Bounds) -> Bounds {
-        let (mut lo, mut hi) = (b.min.to_array(), b.max.to_array());
-        let excluded = |lo: [f64; 6], hi: [f64; 6]| {
-            Bounds::try_new(lo, hi).is_ok_and(|s| self.exclude(target, conditions, Mode::All, &s, true).is_err())
-        };
-        for k in 3..6 {
-            for from_below in [true, false] {
-                let mut share = 0.5;
-                for _ in 0..TRIM_STEPS {
-                    let width = hi[k] - lo[k];
-                    if width <= 0.0 || share < TRIM_LEAST {
-                        break;
-                    }
-                    let (mut slab_lo, mut slab_hi) = (lo, hi);
-                    if from_below {
-                        slab_hi[k] = lo[k] + share * width;
-                    } else {
-                        slab_lo[k] = hi[k] - share * width;
-                    }
-                    if !excluded(slab_lo, slab_hi) {
-                        share *= 0.25;
-                    } else if from_below {
-                        lo[k] = slab_hi[k];
-                    } else {
-                        hi[k] = slab_lo[k];
-                    }
-                }
-            }
-        }
+        let (lo, hi) = super::turns::shave_angles(b, TRIM_STEPS, TRIM_LEAST, |lo, hi| {
+            Bounds::try_new(*lo, *hi).is_ok_and(|s| self.exclude(target, conditions, Mode::All, &s, true).is_err())
+        });
         Bounds::try_new(lo, hi).unwrap_or(*b)
     }
 

@@ -322,6 +322,17 @@ impl Turns {
         }
     }
 
+    /// The same conditions with the crossing wedges' slack for an end as near as the
+    /// prover's margin ([`Wedge::ends`] dropped).
+    #[cfg(test)]
+    pub(crate) fn without_reach(&self) -> Turns {
+        let mut turns = self.clone();
+        for wedge in &mut turns.wedges {
+            wedge.ends = None;
+        }
+        turns
+    }
+
     /// Whether there is no condition at all (every rotation meets them).
     fn is_empty(&self) -> bool {
         self.turns.is_empty()
@@ -346,32 +357,8 @@ impl Turns {
         if self.is_empty() {
             return Some(*b);
         }
-        let (mut lo, mut hi) = (b.min.to_array(), b.max.to_array());
         let holds_within = |lo: &[f64; 6], hi: &[f64; 6]| Bounds::try_new(*lo, *hi).is_ok_and(|s| self.may_hold(&s));
-        for k in 3..6 {
-            for from_below in [true, false] {
-                let mut share = 0.5;
-                for _ in 0..SHAVE_STEPS {
-                    let width = hi[k] - lo[k];
-                    if width <= 0.0 || share < SHAVE_LEAST {
-                        break;
-                    }
-                    let (mut slab_lo, mut slab_hi) = (lo, hi);
-                    if from_below {
-                        slab_hi[k] = lo[k] + share * width;
-                    } else {
-                        slab_lo[k] = hi[k] - share * width;
-                    }
-                    if holds_within(&slab_lo, &slab_hi) {
-                        share *= 0.25;
-                    } else if from_below {
-                        lo[k] = slab_hi[k];
-                    } else {
-                        hi[k] = slab_lo[k];
-                    }
-                }
-            }
-        }
+        let (lo, hi) = shave_angles(b, SHAVE_STEPS, SHAVE_LEAST, |lo, hi| !holds_within(lo, hi));
         Bounds::try_new(lo, hi).ok()
     }
 
@@ -925,6 +912,44 @@ impl Problem<'_> {
             rims: [rim(self.fixed, e)?, rim(self.moving, x)?],
         })
     }
+}
+
+/// The box's angle ranges (as its lower and upper corners) with slabs cut off from
+/// either end while `excluded` rules them out: from each end, half of what is left,
+/// then a quarter as thick after each slab that stays, down to `least` of what is left
+/// and at most `steps` slabs per end.
+pub(crate) fn shave_angles(
+    b: &Bounds,
+    steps: usize,
+    least: f64,
+    excluded: impl Fn(&[f64; 6], &[f64; 6]) -> bool,
+) -> ([f64; 6], [f64; 6]) {
+    let (mut lo, mut hi) = (b.min.to_array(), b.max.to_array());
+    for k in 3..6 {
+        for from_below in [true, false] {
+            let mut share = 0.5;
+            for _ in 0..steps {
+                let width = hi[k] - lo[k];
+                if width <= 0.0 || share < least {
+                    break;
+                }
+                let (mut slab_lo, mut slab_hi) = (lo, hi);
+                if from_below {
+                    slab_hi[k] = lo[k] + share * width;
+                } else {
+                    slab_lo[k] = hi[k] - share * width;
+                }
+                if !excluded(&slab_lo, &slab_hi) {
+                    share *= 0.25;
+                } else if from_below {
+                    lo[k] = slab_hi[k];
+                } else {
+                    hi[k] = slab_lo[k];
+                }
+            }
+        }
+    }
+    (lo, hi)
 }
 
 /// The diagonal of a face's bounding box.
