@@ -181,7 +181,7 @@ const SCREEN_BUDGET: usize = 64;
 /// the floor within a few dozen.
 const HALVING_BUDGET: usize = 6144;
 /// The proof by halving gives up at the first box this narrow (relative to L, rotations
-/// as the arc they sweep) that it cannot exclude: the limit poses of larger states that
+/// as the arc they sweep) that it cannot exclude, trimmed: the limit poses of larger states that
 /// leave a candidate undecided stay open however small the box.
 const HALVING_FLOOR_REL: f64 = 4e-4;
 /// Runs of the exclusion tests [`Problem::exclude_settled`] adds, at most.
@@ -517,10 +517,11 @@ impl Problem<'_> {
     }
 
     /// A proof by halving alone over the whole bounds, depth first: each box tested
-    /// once with the last proofs' conditions (no look-ahead) and halved where it is
-    /// widest, rotations weighed as the arc they sweep, the half holding `toward` (the
-    /// centre of the box the branch and prune left open) first. `None` once `budget`
-    /// boxes are examined or a box no wider than `floor` stays open: the branch and prune's
+    /// with the last proofs' conditions ([`Problem::exclude_settled`], no look-ahead)
+    /// and halved where it is widest, rotations weighed as the arc they sweep, the half
+    /// holding `toward` (the centre of the box the branch and prune left open) first.
+    /// `None` once `budget` boxes are examined or a box no wider than `floor` stays
+    /// open, its angles trimmed too ([`Problem::trim`]): the branch and prune's
     /// look-ahead weighs the halves' propagation, which near a limit pose of a larger
     /// state keeps splitting translations that the halving leaves whole, while a
     /// rotation slice of a few milliradians would fall to propagation outright.
