@@ -47,7 +47,7 @@ pub enum Rule {
     RigidDistance,
     /// Two point contacts' normals are an angle apart on one part that the other
     /// part's elements cannot match, under any rotation (a box corner in a
-    /// right-angled groove, for one): a last proof ([`Problem::prove_last`]).
+    /// right-angled groove, for one): a last proof, once every search is done.
     NormalAngles,
     /// A corner of one part on a face of the other, and another contact's point in a
     /// convex face at that corner and on the same plane: the face would lie flush or
