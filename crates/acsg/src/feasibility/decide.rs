@@ -1013,8 +1013,17 @@ impl Problem<'_> {
     fn keeps_other_pair_close(&self, target: &[PrincipalContact], b: &Bounds) -> bool {
         let w = b.width();
         let turn = self.moving_radius * (3..6).map(|k| 0.5 * w[k]).sum::<f64>();
-        let within = self.separation() - turn - scaled(10.0 * CONTACT_REL, self.scale);
-        if within <= 0.0 {
+        let slack = scaled(10.0 * CONTACT_REL, self.scale);
+        let within = self.separation() - turn - slack;
+        // A face on a face is read with its plane distances enclosed over the whole
+        // box (not the centre's turned by `turn`), so a tall box thin in its angles
+        // still tells a face within the loose tolerance of another's plane.
+        let loose = scaled(super::LOOSE_CONTACT_REL, self.scale) - slack;
+        // A face stays within `d` of a plane over the box's translations only if the
+        // box is thinner than `2 d` in some component (the distance is affine in the
+        // translation, its range as wide as Σ |n_k| w_k ≥ min w_k): below, the faces
+        // are only tried within the separation, the convex elements within `within`.
+        if within <= 0.0 && (0..3).all(|k| w[k] >= 2.0 * self.separation()) {
             return false;
         }
         let centre = b.center();
@@ -1035,8 +1044,13 @@ impl Problem<'_> {
             _ => true,
         };
         let motion = self.reach_within(b);
+        let rotations = super::interval::rotation_enclosure(b);
+        let stay_close = |f, g, plane_within: f64, whole: bool| {
+            let near_plane = |s: glam::DVec3| self.plane_distance_over(f, s, b, &rotations) < plane_within;
+            self.faces_stay_close(f, g, &corners, &near_plane, (motion, turn), whole)
+        };
         self.scene
-            .pairs_within(&self.placement(&centre), within)
+            .pairs_within(&self.placement(&centre), within.max(loose))
             .into_iter()
             .any(|(x, y)| match (x, y) {
                 (ElementId::Face(f), ElementId::Face(g)) if self.held(target, x, y) => {
@@ -1044,16 +1058,14 @@ impl Problem<'_> {
                     // whole face lying within the loosest tolerance of the other's plane,
                     // over it, is not: a looser checker reads the faces on each other.
                     let target_pair = target.iter().any(|pc| pc.fixed == x && pc.moving == y);
-                    let loose = scaled(super::LOOSE_CONTACT_REL - 10.0 * CONTACT_REL, self.scale) - turn;
-                    !target_pair && loose > 0.0 && self.faces_stay_close(f, g, &corners, loose, (motion, turn), true)
+                    !target_pair && stay_close(f, g, loose, true)
                 }
                 _ if self.held(target, x, y) => false,
+                _ if within <= 0.0 => false,
                 _ if convex(self.fixed, x) && convex(self.moving, y) => corners
                     .iter()
                     .all(|placement| self.scene.element_distance(placement, x, y) < within),
-                (ElementId::Face(f), ElementId::Face(g)) => {
-                    self.faces_stay_close(f, g, &corners, within, (motion, turn), false)
-                }
+                (ElementId::Face(f), ElementId::Face(g)) => stay_close(f, g, self.separation() - slack, false),
                 _ => false,
             })
     }
@@ -1077,17 +1089,11 @@ impl Problem<'_> {
         f: crate::model::FaceId,
         g: crate::model::FaceId,
         corners: &[glam::DAffine3],
-        within: f64,
+        near_plane: &dyn Fn(glam::DVec3) -> bool,
         (motion, turn): (f64, f64),
         whole: bool,
     ) -> bool {
         let (fixed, moving) = (&self.fixed_faces[f.index()], &self.moving_faces[g.index()]);
-        let near_plane = |s: glam::DVec3| {
-            corners.iter().all(|placement| {
-                let p = placement.transform_point3(s);
-                (fixed.normal.dot(p) - fixed.offset).abs() < within
-            })
-        };
         if whole && !moving.loops.iter().flatten().all(|&v| near_plane(v)) {
             return false;
         }
@@ -1167,6 +1173,30 @@ impl Problem<'_> {
                 || (convex && deep_at_every_corner(s, &|p| fixed.inside_depth(p)))
                 || triangle.is_some_and(|t| deep_at_every_corner(s, &in_triangle(t)))
         })
+    }
+
+    /// The largest distance of the moving part's point `s` from the fixed face `f`'s
+    /// plane over the box `b` (`rotations` encloses its rotations): `n · G (R s + t)`
+    /// in interval arithmetic, plus a round-off allowance.
+    fn plane_distance_over(
+        &self,
+        f: crate::model::FaceId,
+        s: glam::DVec3,
+        b: &Bounds,
+        rotations: &super::interval::IntervalMat,
+    ) -> f64 {
+        use super::interval::{Interval, turned_value};
+        let face = &self.fixed_faces[f.index()];
+        // n · G q = m · q + n · G's translation, with m = G's linear part transposed n.
+        let m = self.assembled.matrix3.transpose() * face.normal;
+        let (lo, hi) = (b.min.to_array(), b.max.to_array());
+        let moved = (0..3).fold(Interval::point(0.0), |acc, k| {
+            acc.add(Interval::new(lo[k], hi[k]).mul(Interval::point(m[k])))
+        });
+        let d = turned_value(rotations, m, s).add(moved).add(Interval::point(
+            face.normal.dot(self.assembled.translation) - face.offset,
+        ));
+        d.lo.abs().max(d.hi.abs()) + scaled(crate::tolerance::ROUNDOFF_REL, self.scale)
     }
 
     /// Whether two elements `within` of each other at `placement` are held by none of
@@ -1403,6 +1433,52 @@ mod tests {
                 .exclude(&target, &conditions, Mode::All, &trimmed, true)
                 .is_err()
         );
+    }
+
+    #[test]
+    fn a_face_within_the_loose_tolerance_of_the_wall_over_a_box_thin_in_its_angles_is_excluded() {
+        // The box's back bottom edge on the L-block's step, its top right edge crossing
+        // the wall's top edge, turned -1.75e-6 rad about z: its right face lies within
+        // 2e-4 mm of the wall's plane, which the loose reading (2.7e-4 mm) reads as face
+        // on face. Over this box, thin in x and in its angles (the halving's floor),
+        // each angle still moves the box's corners by up to 0.02 mm, so only the plane
+        // distances enclosed over the box (not the centre's turned) see that.
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let mut target = [contact("f3", "e6", K::FaceEdge), contact("e10", "e10", K::EdgeEdge)];
+        target.sort();
+        let b = Bounds::try_new(
+            [
+                -2.18e-4,
+                -2.265625,
+                10.341212839421077,
+                -0.11179429790744266,
+                -2.7e-8,
+                -1.801e-6,
+            ],
+            [
+                -1.50e-4,
+                -2.1875,
+                10.355796013224646,
+                -0.11167491434695674,
+                2.7e-8,
+                -1.690e-6,
+            ],
+        )
+        .unwrap();
+        assert!(problem.keeps_other_pair_close(&target, &b));
+        // The loose reading has the faces on each other at every corner of the box.
+        let (lo, hi) = (b.min.to_array(), b.max.to_array());
+        let wall_on_side = contact("f5", "f5", K::FaceFace);
+        for c in 0..64u32 {
+            let corner: [f64; 6] = std::array::from_fn(|k| if (c >> k) & 1 == 0 { lo[k] } else { hi[k] });
+            let placement = problem.placement(&Pose::from_array(corner));
+            let loose = problem
+                .scene
+                .state(&placement, super::super::LOOSE_CONTACT_REL)
+                .contacts;
+            assert!(loose.contains(&wall_on_side), "corner {c}: {loose:?}");
+        }
     }
 
     #[test]

@@ -64,34 +64,15 @@ impl Ends {
     /// The least distance, at any pose of `b`, from the crossing (the contact within the
     /// tolerance) to an end of either edge; zero when nothing is known.
     fn least_from_ends(&self, b: &Bounds) -> f64 {
-        let center = b.center();
-        let (rotation, translation) = (center.rotation(), center.translation());
-        let w = b.width();
-        let shift = 0.5 * DVec3::new(w[0], w[1], w[2]).length();
-        let turn = 0.5 * (w[3] + w[4] + w[5]);
-        // The crossing lies on `on` and within `within` of the line through `line`:
-        // |s − s_c| sin θ at most that.
-        let along = |on: [DVec3; 2], line: [DVec3; 2], within: f64| {
-            let length = on[0].distance(on[1]);
-            let (d, m) = ((on[1] - on[0]) / length, (line[1] - line[0]).normalize());
-            let sine = d.cross(m).length();
-            if sine <= 1e-12 {
-                return 0.0;
-            }
-            // The closest point of `on`'s line to `line`'s.
-            let r = on[0] - line[0];
-            let (cosine, c, e) = (d.dot(m), d.dot(r), m.dot(r));
-            let s = (cosine * e - c) / (1.0 - cosine * cosine);
-            let half = within / sine;
-            (s - half).min(length - s - half).max(0.0)
-        };
-        let placed = self.moving.map(|p| rotation * p + translation);
-        let moving_shift = shift + turn * self.moving.iter().map(|p| p.length()).fold(0.0, f64::max);
-        let on_fixed = along(self.fixed, placed, self.tolerance + moving_shift);
-        let fixed_in_b = self.fixed.map(|p| rotation.transpose() * (p - translation));
-        let fixed_shift = shift + turn * self.fixed.iter().map(|p| p.distance(translation)).fold(0.0, f64::max);
-        let on_moving = along(self.moving, fixed_in_b, self.tolerance + fixed_shift);
-        on_fixed.min(on_moving)
+        let positions = crossing_positions(&self.fixed, &self.moving, self.tolerance, b);
+        [self.fixed, self.moving]
+            .iter()
+            .zip(positions)
+            .map(|(edge, range)| {
+                let length = edge[0].distance(edge[1]);
+                range.map_or(0.0, |(lo, hi)| lo.min(length - hi).max(0.0))
+            })
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// How far along the edges from the crossing a face turned past the plane through
@@ -118,6 +99,85 @@ impl Ends {
                 .map(|other| segment_segment(&inner, other).0)
                 .fold(reach, f64::min)
         })
+    }
+}
+
+/// Where along each of two crossing edges (from its first end) the crossing lies at
+/// any pose of `b`, fixed edge (in G's frame) then moving edge (in its part's frame):
+/// within the tolerance, plus how far the box moves the other edge, of that edge's
+/// line at the box's centre, so |s − s_c| sin θ is at most that. `None` for an edge
+/// (nearly) parallel to the other at the centre.
+fn crossing_positions(fixed: &[DVec3; 2], moving: &[DVec3; 2], tolerance: f64, b: &Bounds) -> [Option<(f64, f64)>; 2] {
+    let center = b.center();
+    let (rotation, translation) = (center.rotation(), center.translation());
+    let w = b.width();
+    let shift = 0.5 * DVec3::new(w[0], w[1], w[2]).length();
+    let turn = 0.5 * (w[3] + w[4] + w[5]);
+    let along = |on: &[DVec3; 2], line: [DVec3; 2], within: f64| {
+        let length = on[0].distance(on[1]);
+        let (d, m) = ((on[1] - on[0]) / length, (line[1] - line[0]).normalize());
+        let sine = d.cross(m).length();
+        if sine <= 1e-12 {
+            return None;
+        }
+        // The closest point of `on`'s line to `line`'s.
+        let r = on[0] - line[0];
+        let (cosine, c, e) = (d.dot(m), d.dot(r), m.dot(r));
+        let s = (cosine * e - c) / (1.0 - cosine * cosine);
+        let half = within / sine;
+        Some((s - half, s + half))
+    };
+    let placed = moving.map(|p| rotation * p + translation);
+    let moving_shift = shift + turn * moving.iter().map(|p| p.length()).fold(0.0, f64::max);
+    let on_fixed = along(fixed, placed, tolerance + moving_shift);
+    let fixed_in_b = fixed.map(|p| rotation.transpose() * (p - translation));
+    let fixed_shift = shift + turn * fixed.iter().map(|p| p.distance(translation)).fold(0.0, f64::max);
+    let on_moving = along(moving, fixed_in_b, tolerance + fixed_shift);
+    [on_fixed, on_moving]
+}
+
+/// One of two crossing edges running from the crossing over a face at the other edge
+/// (see [`Problem::add_exits`]): excluded where it runs into the face (`into`
+/// positive) while its rate off the face's plane (`rate`, for the unit direction)
+/// stays below `exit` over the longest it can run before its end.
+#[derive(Clone, Debug)]
+struct Exit {
+    rate: (DVec3, DVec3),
+    into: (DVec3, DVec3),
+    exit: f64,
+    /// The two edges, as for [`crossing_positions`], and the contact tolerance.
+    fixed: [DVec3; 2],
+    moving: [DVec3; 2],
+    tolerance: f64,
+    /// Whether the fixed edge runs (else the moving one), and toward its second end.
+    fixed_runs: bool,
+    forward: bool,
+}
+
+impl Exit {
+    /// Whether the box is ruled out: at each of its poses the edge runs into the face
+    /// and leaves it within the separation of its plane.
+    fn excludes(&self, r: &IntervalMat, b: &Bounds) -> bool {
+        if value(r, self.into.0, self.into.1).lo <= 0.0 {
+            return false;
+        }
+        let edge = if self.fixed_runs { &self.fixed } else { &self.moving };
+        let length = edge[0].distance(edge[1]);
+        let range = crossing_positions(&self.fixed, &self.moving, self.tolerance, b)[usize::from(!self.fixed_runs)];
+        // How far the edge runs on from the crossing, at most.
+        let run = range.map_or(length, |(lo, hi)| {
+            if self.forward {
+                length - lo.max(0.0)
+            } else {
+                hi.min(length)
+            }
+        });
+        if run <= 0.0 {
+            return false;
+        }
+        let flat = self.exit / run.min(length);
+        let v = value(r, self.rate.0, self.rate.1);
+        v.lo > -flat && v.hi < flat
     }
 }
 
@@ -176,6 +236,7 @@ pub(crate) struct Turns {
     lying: Vec<Lying>,
     outside: Vec<Outside>,
     pierce: Vec<Pierce>,
+    exits: Vec<Exit>,
 }
 
 /// A direction of one part at a vertex held in an edge of the other that must not
@@ -252,7 +313,7 @@ impl Wedge {
             return (may, sure);
         }
         match self.ends.as_ref().map(|ends| (ends.reach(bounds), ends.tolerance)) {
-            Some((reach, tolerance)) if reach > 0.0 && 4.0 * tolerance / reach < s => verdict(4.0 * tolerance / reach),
+            Some((reach, tolerance)) if reach > 0.0 && 2.0 * tolerance / reach < s => verdict(2.0 * tolerance / reach),
             _ => (may, sure),
         }
     }
@@ -311,6 +372,7 @@ impl Turns {
                 !flush || f.side.is_some_and(|(u, w)| value(&r, u, w).hi <= 0.0)
             })
             && !self.pierce.iter().any(|p| p.certain(&r, b))
+            && !self.exits.iter().any(|x| x.excludes(&r, b))
     }
 
     /// The same conditions without the rays of crossing edges ([`Pierce`]).
@@ -333,6 +395,15 @@ impl Turns {
         turns
     }
 
+    /// The same conditions without the exits of crossing edges ([`Exit`]).
+    #[cfg(test)]
+    pub(crate) fn without_exits(&self) -> Turns {
+        Turns {
+            exits: Vec::new(),
+            ..self.clone()
+        }
+    }
+
     /// Whether there is no condition at all (every rotation meets them).
     fn is_empty(&self) -> bool {
         self.turns.is_empty()
@@ -343,6 +414,7 @@ impl Turns {
             && self.lying.is_empty()
             && self.outside.is_empty()
             && self.pierce.is_empty()
+            && self.exits.is_empty()
     }
 
     /// The box with its angle ranges cut down to where the conditions may hold
@@ -628,6 +700,7 @@ impl Problem<'_> {
                     normal: ends_apart.then_some(components),
                     ends: self.ends(e, x),
                 });
+                self.add_exits(pc, target, e, x, out);
                 // And where a face dips past that plane, the other edge runs on into
                 // the face's part: as deep as the part's faces allow over the edge's
                 // length, not only up to the margin.
@@ -737,6 +810,78 @@ impl Problem<'_> {
     /// its end over the face or it crossing the face's next edge, a contact the vertex
     /// on the edge does not imply (unless another contact of the target touches that
     /// face's closure).
+    /// Two crossing edges: where one runs from the crossing over a face at the other
+    /// (its direction has a component across the other edge into the face), it leaves
+    /// the face (past another of the face's boundary elements, or at its own end) at
+    /// most its length away. There it must be the separation off the face's plane:
+    /// closer, that boundary element and the edge (or the end and the face) are too
+    /// close for a witness, or touch, a contact the target would need, and it holds
+    /// none between the face's closure and the edge's (a contact sharing a vertex with
+    /// each). Within the contact tolerance at the crossing, it must rise or dip by the
+    /// separation over at most its length: a rate `n · (R d)` at least that ratio in
+    /// size, kept as a [`Lying`] condition (the edge along the face, running into it).
+    fn add_exits(&self, pc: &PrincipalContact, target: &[PrincipalContact], e: EdgeId, x: EdgeId, out: &mut Turns) {
+        let to_g = |d: DVec3| self.prover.fixed_direction(d);
+        let shares = |part: &Part, a: ElementId, b: ElementId| {
+            let around = part.closure_vertices(b);
+            part.closure_vertices(a).iter().any(|v| around.contains(v))
+        };
+        let clear = |fixed: ElementId, moving: ElementId| {
+            target
+                .iter()
+                .filter(|&other| other != pc)
+                .all(|other| !(shares(self.fixed, other.fixed, fixed) && shares(self.moving, other.moving, moving)))
+        };
+        let tolerance = scaled(CONTACT_REL, self.scale);
+        let exit = Exit {
+            rate: (DVec3::ZERO, DVec3::ZERO),
+            into: (DVec3::ZERO, DVec3::ZERO),
+            // A tenth of the separation and the tolerance at the crossing kept in hand.
+            exit: 0.9 * self.separation() - tolerance,
+            fixed: self.fixed.edge_points(e).map(|p| self.prover.fixed_point(p)),
+            moving: self.moving.edge_points(x),
+            tolerance,
+            fixed_runs: false,
+            forward: true,
+        };
+        // Edge directions run from the first end to the second.
+        let (de, dx) = (exit.fixed[1] - exit.fixed[0], exit.moving[1] - exit.moving[0]);
+        let (de, dx) = (de.normalize(), dx.normalize());
+        let faces_a = self.fixed.edge(e).faces.into_iter().zip(self.fixed.edge_wedge(e));
+        for (f, u) in faces_a {
+            if !clear(ElementId::Face(f), ElementId::Edge(x)) {
+                continue;
+            }
+            let n = to_g(self.fixed.face(f).normal);
+            for forward in [true, false] {
+                let sign = if forward { 1.0 } else { -1.0 };
+                out.exits.push(Exit {
+                    rate: (n, dx),
+                    into: (sign * to_g(u), dx),
+                    forward,
+                    ..exit.clone()
+                });
+            }
+        }
+        let faces_b = self.moving.edge(x).faces.into_iter().zip(self.moving.edge_wedge(x));
+        for (g, w) in faces_b {
+            if !clear(ElementId::Edge(e), ElementId::Face(g)) {
+                continue;
+            }
+            let m = self.moving.face(g).normal;
+            for forward in [true, false] {
+                let sign = if forward { 1.0 } else { -1.0 };
+                out.exits.push(Exit {
+                    rate: (de, m),
+                    into: (sign * de, w),
+                    fixed_runs: true,
+                    forward,
+                    ..exit.clone()
+                });
+            }
+        }
+    }
+
     fn add_lying(&self, pc: &PrincipalContact, target: &[PrincipalContact], rise: f64, out: &mut Turns) {
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
         let untouched =
@@ -1032,6 +1177,46 @@ mod tests {
         // Flush (the box's side on the wall, face on face), the plane through the edges
         // separates the wedges.
         assert!(turns.wedges.iter().all(|w| sides(w, &at(0.0))));
+    }
+
+    #[test]
+    fn an_edge_leaving_the_wall_within_the_separation_of_its_plane_is_excluded() {
+        // The box tilted 0.1117 rad about x and leaning off the wall about y, its top
+        // right edge crossing the wall's top edge 1.7 mm from the wall's back end, 2 mm
+        // from its own. Turned back about z, the box edge runs from the crossing over
+        // the wall's face, rising off it, and leaves the face at the wall's back edge.
+        // Leaning by 1e-3 rad and turned by -5e-5, it rises 1.1e-4 mm there, closer
+        // than the separation (2.7e-4 mm); leaning by 5e-3 and turned by -2e-4, farther
+        // (a witness).
+        let (a, b) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&a, &b, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let target = [crate::testing::contact("e10", "e10", K::EdgeEdge)];
+        let turns = problem.turns(&target);
+        let at = |ry: f64, rz: f64| {
+            let rotation = glam::DMat3::from_rotation_z(rz)
+                * glam::DMat3::from_rotation_y(ry)
+                * glam::DMat3::from_rotation_x(-0.1117);
+            // The box edge's point 2 mm from its back end on the wall's top edge.
+            let t = DVec3::new(150.0, 98.3, 150.0) - rotation * DVec3::new(150.0, 88.0, 150.0);
+            Pose::from_array([t.x, t.y, t.z, -0.1117, ry, rz])
+        };
+        let point = |pose: Pose| Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
+        let flaw = |pose: Pose| {
+            let placement = pose.to_affine(&glam::DAffine3::IDENTITY);
+            let report = problem.scene().evaluate(&placement, CONTACT_REL);
+            assert_eq!(report.contacts, target.to_vec());
+            crate::feasibility::witness_flaw(problem.scene(), &placement, &report)
+        };
+        // Too close at the wall's back edge: the witness check finds it, nothing but
+        // the exit rules the pose out.
+        let near = at(1e-3, -5e-5);
+        assert!(matches!(flaw(near), Some(crate::feasibility::WitnessFlaw::TooClose(_))));
+        assert!(turns.without_exits().may_hold(&point(near)));
+        assert!(!turns.may_hold(&point(near)));
+        // A witness: left open.
+        let witness = at(5e-3, -2e-4);
+        assert_eq!(flaw(witness), None);
+        assert!(turns.may_hold(&point(witness)));
     }
 
     #[test]
