@@ -374,11 +374,12 @@ mod tests {
             assert!(depth > deeper_than, "tilted {ry}: depth {depth}");
             let at = Bounds::try_new(pose.to_array(), pose.to_array()).unwrap();
             // The rays exclude it, and the other conditions as they stood before the
-            // crossing's reach ([`super::turns`]' wedge) do not; the reach does too.
+            // crossing's reach ([`super::turns`]' wedge) and its exits do not; the
+            // reach does too.
             let older = turns.without_reach();
             assert!(!older.may_hold(&at), "tilted {ry}");
             assert!(
-                older.without_pierce().may_hold(&at),
+                older.without_pierce().without_exits().may_hold(&at),
                 "the rays exclude it, not the rest"
             );
             assert!(!turns.may_hold(&at), "tilted {ry}");
@@ -432,7 +433,7 @@ mod tests {
         let turns = problem.turns(&[crossing]);
         assert!(!turns.may_hold(&at));
         assert!(
-            turns.without_pierce().may_hold(&at),
+            turns.without_pierce().without_exits().may_hold(&at),
             "the rays exclude it, not the rest"
         );
     }

@@ -812,14 +812,15 @@ impl Problem<'_> {
     /// face's closure).
     /// Two crossing edges: where one runs from the crossing over a face at the other
     /// (its direction has a component across the other edge into the face), it leaves
-    /// the face (past another of the face's boundary elements, or at its own end) at
-    /// most its length away. There it must be the separation off the face's plane:
+    /// the face (past another of the face's boundary elements, or at its own end) no
+    /// farther than its own end. There it must be the separation off the face's plane:
     /// closer, that boundary element and the edge (or the end and the face) are too
     /// close for a witness, or touch, a contact the target would need, and it holds
-    /// none between the face's closure and the edge's (a contact sharing a vertex with
-    /// each). Within the contact tolerance at the crossing, it must rise or dip by the
-    /// separation over at most its length: a rate `n · (R d)` at least that ratio in
-    /// size, kept as a [`Lying`] condition (the edge along the face, running into it).
+    /// none between the face's closure and the edge's (none shares a vertex with
+    /// both). Within the contact tolerance at the crossing, the edge must so rise or
+    /// dip by the separation over at most the run to its end: a rate `n · (R d)` at
+    /// least that ratio in size ([`Exit`], the run bounded by where the crossing lies
+    /// over the box). Penetration is not needed: a dip that deep is ruled out too.
     fn add_exits(&self, pc: &PrincipalContact, target: &[PrincipalContact], e: EdgeId, x: EdgeId, out: &mut Turns) {
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
         let shares = |part: &Part, a: ElementId, b: ElementId| {
