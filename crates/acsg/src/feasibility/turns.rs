@@ -48,13 +48,19 @@ struct Wedge {
 }
 
 /// Two crossing edges, the fixed one in G's frame and the moving one in its part's
-/// frame, the contact tolerance, and each edge's faces as the other boundary edges
-/// that bound how wide they are ([`Ends::reach`]).
-#[derive(Clone, Debug)]
-struct Ends {
+/// frame, and the contact tolerance they cross within.
+#[derive(Clone, Copy, Debug)]
+struct EdgePair {
     fixed: [DVec3; 2],
     moving: [DVec3; 2],
     tolerance: f64,
+}
+
+/// Two crossing edges and each edge's faces as the other boundary edges that bound how
+/// wide they are ([`Ends::reach`]).
+#[derive(Clone, Debug)]
+struct Ends {
+    edges: EdgePair,
     /// Per edge (fixed, then moving), the edge in its part's frame and the other
     /// boundary edges of its two faces.
     rims: [([DVec3; 2], Vec<Segment>); 2],
@@ -64,8 +70,8 @@ impl Ends {
     /// The least distance, at any pose of `b`, from the crossing (the contact within the
     /// tolerance) to an end of either edge; zero when nothing is known.
     fn least_from_ends(&self, b: &Bounds) -> f64 {
-        let positions = crossing_positions(&self.fixed, &self.moving, self.tolerance, b);
-        [self.fixed, self.moving]
+        let positions = self.edges.crossing_positions(b);
+        [self.edges.fixed, self.edges.moving]
             .iter()
             .zip(positions)
             .map(|(edge, range)| {
@@ -102,38 +108,41 @@ impl Ends {
     }
 }
 
-/// Where along each of two crossing edges (from its first end) the crossing lies at
-/// any pose of `b`, fixed edge (in G's frame) then moving edge (in its part's frame):
-/// within the tolerance, plus how far the box moves the other edge, of that edge's
-/// line at the box's centre, so |s − s_c| sin θ is at most that. `None` for an edge
-/// (nearly) parallel to the other at the centre.
-fn crossing_positions(fixed: &[DVec3; 2], moving: &[DVec3; 2], tolerance: f64, b: &Bounds) -> [Option<(f64, f64)>; 2] {
-    let center = b.center();
-    let (rotation, translation) = (center.rotation(), center.translation());
-    let w = b.width();
-    let shift = 0.5 * DVec3::new(w[0], w[1], w[2]).length();
-    let turn = 0.5 * (w[3] + w[4] + w[5]);
-    let along = |on: &[DVec3; 2], line: [DVec3; 2], within: f64| {
-        let length = on[0].distance(on[1]);
-        let (d, m) = ((on[1] - on[0]) / length, (line[1] - line[0]).normalize());
-        let sine = d.cross(m).length();
-        if sine <= 1e-12 {
-            return None;
-        }
-        // The closest point of `on`'s line to `line`'s.
-        let r = on[0] - line[0];
-        let (cosine, c, e) = (d.dot(m), d.dot(r), m.dot(r));
-        let s = (cosine * e - c) / (1.0 - cosine * cosine);
-        let half = within / sine;
-        Some((s - half, s + half))
-    };
-    let placed = moving.map(|p| rotation * p + translation);
-    let moving_shift = shift + turn * moving.iter().map(|p| p.length()).fold(0.0, f64::max);
-    let on_fixed = along(fixed, placed, tolerance + moving_shift);
-    let fixed_in_b = fixed.map(|p| rotation.transpose() * (p - translation));
-    let fixed_shift = shift + turn * fixed.iter().map(|p| p.distance(translation)).fold(0.0, f64::max);
-    let on_moving = along(moving, fixed_in_b, tolerance + fixed_shift);
-    [on_fixed, on_moving]
+impl EdgePair {
+    /// Where along each of two crossing edges (from its first end) the crossing lies at
+    /// any pose of `b`, fixed edge (in G's frame) then moving edge (in its part's frame):
+    /// within the tolerance, plus how far the box moves the other edge, of that edge's
+    /// line at the box's centre, so |s − s_c| sin θ is at most that. `None` for an edge
+    /// (nearly) parallel to the other at the centre.
+    fn crossing_positions(&self, b: &Bounds) -> [Option<(f64, f64)>; 2] {
+        let (fixed, moving, tolerance) = (&self.fixed, &self.moving, self.tolerance);
+        let center = b.center();
+        let (rotation, translation) = (center.rotation(), center.translation());
+        let w = b.width();
+        let shift = 0.5 * DVec3::new(w[0], w[1], w[2]).length();
+        let turn = 0.5 * (w[3] + w[4] + w[5]);
+        let along = |on: &[DVec3; 2], line: [DVec3; 2], within: f64| {
+            let length = on[0].distance(on[1]);
+            let (d, m) = ((on[1] - on[0]) / length, (line[1] - line[0]).normalize());
+            let sine = d.cross(m).length();
+            if sine <= 1e-12 {
+                return None;
+            }
+            // The closest point of `on`'s line to `line`'s.
+            let r = on[0] - line[0];
+            let (cosine, c, e) = (d.dot(m), d.dot(r), m.dot(r));
+            let s = (cosine * e - c) / (1.0 - cosine * cosine);
+            let half = within / sine;
+            Some((s - half, s + half))
+        };
+        let placed = moving.map(|p| rotation * p + translation);
+        let moving_shift = shift + turn * moving.iter().map(|p| p.length()).fold(0.0, f64::max);
+        let on_fixed = along(fixed, placed, tolerance + moving_shift);
+        let fixed_in_b = fixed.map(|p| rotation.transpose() * (p - translation));
+        let fixed_shift = shift + turn * fixed.iter().map(|p| p.distance(translation)).fold(0.0, f64::max);
+        let on_moving = along(moving, fixed_in_b, tolerance + fixed_shift);
+        [on_fixed, on_moving]
+    }
 }
 
 /// One of two crossing edges running from the crossing over a face at the other edge
@@ -145,10 +154,7 @@ struct Exit {
     rate: (DVec3, DVec3),
     into: (DVec3, DVec3),
     exit: f64,
-    /// The two edges, as for [`crossing_positions`], and the contact tolerance.
-    fixed: [DVec3; 2],
-    moving: [DVec3; 2],
-    tolerance: f64,
+    edges: EdgePair,
     /// Whether the fixed edge runs (else the moving one), and toward its second end.
     fixed_runs: bool,
     forward: bool,
@@ -161,9 +167,13 @@ impl Exit {
         if value(r, self.into.0, self.into.1).lo <= 0.0 {
             return false;
         }
-        let edge = if self.fixed_runs { &self.fixed } else { &self.moving };
+        let edge = if self.fixed_runs {
+            &self.edges.fixed
+        } else {
+            &self.edges.moving
+        };
         let length = edge[0].distance(edge[1]);
-        let range = crossing_positions(&self.fixed, &self.moving, self.tolerance, b)[usize::from(!self.fixed_runs)];
+        let range = self.edges.crossing_positions(b)[usize::from(!self.fixed_runs)];
         // How far the edge runs on from the crossing, at most.
         let run = range.map_or(length, |(lo, hi)| {
             if self.forward {
@@ -312,7 +322,11 @@ impl Wedge {
         if !may {
             return (may, sure);
         }
-        match self.ends.as_ref().map(|ends| (ends.reach(bounds), ends.tolerance)) {
+        match self
+            .ends
+            .as_ref()
+            .map(|ends| (ends.reach(bounds), ends.edges.tolerance))
+        {
             Some((reach, tolerance)) if reach > 0.0 && 2.0 * tolerance / reach < s => verdict(2.0 * tolerance / reach),
             _ => (may, sure),
         }
@@ -833,20 +847,18 @@ impl Problem<'_> {
                 .filter(|&other| other != pc)
                 .all(|other| !(shares(self.fixed, other.fixed, fixed) && shares(self.moving, other.moving, moving)))
         };
-        let tolerance = scaled(CONTACT_REL, self.scale);
+        let edges = self.edge_pair(e, x);
         let exit = Exit {
             rate: (DVec3::ZERO, DVec3::ZERO),
             into: (DVec3::ZERO, DVec3::ZERO),
             // A tenth of the separation and the tolerance at the crossing kept in hand.
-            exit: 0.9 * self.separation() - tolerance,
-            fixed: self.fixed.edge_points(e).map(|p| self.prover.fixed_point(p)),
-            moving: self.moving.edge_points(x),
-            tolerance,
+            exit: 0.9 * self.separation() - edges.tolerance,
+            edges,
             fixed_runs: false,
             forward: true,
         };
         // Edge directions run from the first end to the second.
-        let (de, dx) = (exit.fixed[1] - exit.fixed[0], exit.moving[1] - exit.moving[0]);
+        let (de, dx) = (edges.fixed[1] - edges.fixed[0], edges.moving[1] - edges.moving[0]);
         let (de, dx) = (de.normalize(), dx.normalize());
         let faces_a = self.fixed.edge(e).faces.into_iter().zip(self.fixed.edge_wedge(e));
         for (f, u) in faces_a {
@@ -1050,13 +1062,19 @@ impl Problem<'_> {
             }
             Some(([p, q], others))
         };
-        let [e0, e1] = self.fixed.edge_points(e);
         Some(Ends {
-            fixed: [e0, e1].map(|p| self.prover.fixed_point(p)),
-            moving: self.moving.edge_points(x),
-            tolerance: scaled(CONTACT_REL, self.scale),
+            edges: self.edge_pair(e, x),
             rims: [rim(self.fixed, e)?, rim(self.moving, x)?],
         })
+    }
+
+    /// A fixed and a moving edge as crossing edges ([`EdgePair`]).
+    fn edge_pair(&self, e: EdgeId, x: EdgeId) -> EdgePair {
+        EdgePair {
+            fixed: self.fixed.edge_points(e).map(|p| self.prover.fixed_point(p)),
+            moving: self.moving.edge_points(x),
+            tolerance: scaled(CONTACT_REL, self.scale),
+        }
     }
 }
 
