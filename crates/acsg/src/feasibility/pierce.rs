@@ -128,6 +128,12 @@ impl Pierce {
     /// Whether every pose of the box with these rotations (`r`) sinks the ray deeper
     /// than the tolerance into the piece.
     pub fn certain(&self, r: &IntervalMat, b: &Bounds) -> bool {
+        self.certain_beyond(r, b, 0.0)
+    }
+
+    /// [`Pierce::certain`] for the poses whose ray runs at least `least` along its edge
+    /// (others being ruled out otherwise).
+    pub fn certain_beyond(&self, r: &IntervalMat, b: &Bounds, least: f64) -> bool {
         let rates: Vec<(f64, f64)> = self
             .faces
             .iter()
@@ -136,7 +142,7 @@ impl Pierce {
         if rates.iter().any(|&(_, rate)| rate.is_nan()) {
             return false;
         }
-        let reach = self.reach.least(r, b).max(self.least_reach);
+        let reach = self.reach.least(r, b).max(self.least_reach).max(least);
         // Each face's line bounds the depth over the whole ray: below the threshold
         // there, no length tried can exceed it (the common case, answered without them).
         let deep = DEEP_TOLERANCES * self.tolerance;
@@ -182,6 +188,15 @@ impl Pierce {
             };
             (0..=HALVINGS).any(|k| inside(reach * 2f64.powi(-k)) > 4.0 * tau)
         })
+    }
+
+    /// Whether this is the ray of the fixed edge (else the moving one's), and its
+    /// direction (G's frame for the fixed edge, the moving part's for the moving one).
+    pub fn ray(&self) -> (bool, DVec3) {
+        match self.reach {
+            Reach::Fixed { d, .. } => (true, d),
+            Reach::Moving { d, .. } => (false, d),
+        }
     }
 
     /// The values whose ranges the target's other conditions narrow, so that they can

@@ -189,6 +189,29 @@ impl Exit {
         let v = value(r, self.rate.0, self.rate.1);
         v.lo > -flat && v.hi < flat
     }
+
+    /// The run below which every pose of the box (with rotations `r`) is ruled out:
+    /// the edge runs into the face, and leaves it within `exit` of its plane.
+    fn short_runs(&self, r: &IntervalMat) -> Option<f64> {
+        if value(r, self.into.0, self.into.1).lo <= 0.0 {
+            return None;
+        }
+        let v = value(r, self.rate.0, self.rate.1);
+        let steepest = v.lo.abs().max(v.hi.abs());
+        (steepest > 0.0).then(|| self.exit / steepest)
+    }
+
+    /// The unit direction the edge runs in from the crossing (G's frame for the fixed
+    /// edge, the moving part's for the moving one).
+    fn direction(&self) -> DVec3 {
+        let edge = if self.fixed_runs {
+            self.edges.fixed
+        } else {
+            self.edges.moving
+        };
+        let d = (edge[1] - edge[0]).normalize();
+        if self.forward { d } else { -d }
+    }
 }
 
 /// Two edges whose directions must not be parallel within `least`: some component of
@@ -386,7 +409,27 @@ impl Turns {
                 !flush || f.side.is_some_and(|(u, w)| value(&r, u, w).hi <= 0.0)
             })
             && !self.pierce.iter().any(|p| p.certain(&r, b))
-            && !self.exits.iter().any(|x| x.excludes(&r, b))
+            && !self
+                .exits
+                .iter()
+                .any(|x| x.excludes(&r, b) || self.exit_or_sink(x, &r, b))
+    }
+
+    /// Whether an exit and a ray of the same edge the same way rule the box out
+    /// together: the exit every pose whose edge runs less than `exit` over its largest
+    /// rate to its end (there it leaves the face within the separation of its plane),
+    /// the ray every other pose (it runs at least that far, and sinks into the other
+    /// part): a dip too deep for the exit alone and too near the edge's end for the
+    /// ray alone.
+    fn exit_or_sink(&self, exit: &Exit, r: &IntervalMat, b: &Bounds) -> bool {
+        let Some(least) = exit.short_runs(r) else {
+            return false;
+        };
+        let direction = exit.direction();
+        self.pierce.iter().any(|p| {
+            let (fixed_runs, d) = p.ray();
+            fixed_runs == exit.fixed_runs && d.distance(direction) <= 1e-9 && p.certain_beyond(r, b, least)
+        })
     }
 
     /// The same conditions without the rays of crossing edges ([`Pierce`]).
@@ -1236,6 +1279,53 @@ mod tests {
         let witness = at(5e-3, -2e-4);
         assert_eq!(flaw(witness), None);
         assert!(turns.may_hold(&point(witness)));
+    }
+
+    #[test]
+    fn a_crossing_near_the_edges_end_dipping_into_the_face_is_ruled_out_by_exit_and_ray_together() {
+        // The plain hole's left rim edge e11 crossing the tilted square peg's front
+        // bottom edge e2 within 0.04 mm of its end, the peg turned -8e-3 rad about y:
+        // past the crossing the peg's edge runs on over the block's top face, dipping
+        // 8e-3 per unit. Run on less than 0.017 mm, it ends within the separation of the
+        // face (the exit); farther, it sinks into the block (the ray). Neither alone
+        // covers the box, whose crossing may lie anywhere within 0.04 mm of the end.
+        let (hole, peg) = (
+            crate::testing::fixture("block_with_hole.off"),
+            crate::testing::fixture("peg.off"),
+        );
+        let d = 1f64.to_radians();
+        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
+        let target = [crate::testing::contact("e11", "e2", K::EdgeEdge)];
+        let turns = problem.turns(&target);
+        let b = Bounds::try_new(
+            [-0.95832, -0.92190, 39.430571, 0.0076883, -0.0080001, 0.0],
+            [-0.91672, -0.86488, 39.440387, 0.0078238, -0.0078741, 0.0],
+        )
+        .unwrap();
+        assert!(!turns.may_hold(&b));
+        assert!(turns.without_exits().may_hold(&b));
+        assert!(turns.without_pierce().may_hold(&b));
+        // Independently: over a grid of the box's x, y and angles, the height that puts
+        // the peg's edge on the rim's line gives a pose with the crossing on both edges,
+        // and none of them is a witness of it.
+        let (lo, hi) = (b.min.to_array(), b.max.to_array());
+        let mut crossings = 0;
+        for c in 0..81u32 {
+            let at = |k: usize, i: u32| lo[k] + (hi[k] - lo[k]) * f64::from(i) / 2.0;
+            let (x, y, rx, ry) = (at(0, c % 3), at(1, c / 3 % 3), at(3, c / 9 % 3), at(4, c / 27));
+            let rotation = Pose::from_array([0.0, 0.0, 0.0, rx, ry, 0.0]).rotation();
+            // The point of e2 (from (36, 36, 10) along x) at the rim's x = 35.
+            let u = (35.0 - x - rotation.row(0).dot(DVec3::new(36.0, 36.0, 10.0))) / rotation.row(0).x;
+            let on_edge = rotation * DVec3::new(36.0 + u, 36.0, 10.0);
+            let pose = Pose::from_array([x, y, 50.0 - on_edge.z, rx, ry, 0.0]);
+            if !(0.0..28.0).contains(&u) || !b.contains(&pose, 0.0, 0.0) {
+                continue;
+            }
+            crossings += 1;
+            assert_ne!(problem.clean_state(&pose), Some(target.to_vec()), "{pose:?}");
+        }
+        assert!(crossings > 10, "{crossings}");
     }
 
     #[test]
