@@ -350,7 +350,7 @@ impl Wedge {
             .as_ref()
             .map(|ends| (ends.reach(bounds), ends.edges.tolerance))
         {
-            Some((reach, tolerance)) if reach > 0.0 && 2.0 * tolerance / reach < s => verdict(2.0 * tolerance / reach),
+            Some((reach, tolerance)) if reach > 0.0 && 4.0 * tolerance / reach < s => verdict(4.0 * tolerance / reach),
             _ => (may, sure),
         }
     }
