@@ -1014,9 +1014,18 @@ fn edges_leaving(part: &Part, v: VertexId) -> Vec<(DVec3, f64)> {
         .collect()
 }
 
-/// The cones at a vertex of the convex pieces of its part that hold it: the outward
-/// normals of each such piece's faces through the vertex (within `near`).
+/// The cones at a vertex of the convex pieces of its part that hold it
+/// ([`cones_of_pieces`]), and those joined across the decomposition's cuts there
+/// ([`joined_across_cuts`]).
 fn piece_cones(part: &Part, v: VertexId, near: f64) -> Vec<Vec<DVec3>> {
+    let mut cones = cones_of_pieces(part, v, near);
+    cones.extend(joined_across_cuts(&cones));
+    cones
+}
+
+/// The outward normals of the faces through the vertex (within `near`) of each convex
+/// piece of its part that holds it.
+fn cones_of_pieces(part: &Part, v: VertexId, near: f64) -> Vec<Vec<DVec3>> {
     let p = part.vertex(v).position;
     part.convex_pieces()
         .iter()
@@ -1032,6 +1041,50 @@ fn piece_cones(part: &Part, v: VertexId, near: f64) -> Vec<Vec<DVec3>> {
         .filter(|cone| !cone.is_empty())
         .collect()
 }
+
+/// Cones joined across the cuts between them, again and again (at most
+/// [`MOST_JOINED`]): for two cones with faces on one plane through the vertex from
+/// either side (a cut of the decomposition), the cone bounded by both cones' other
+/// faces. A direction inside it lies in the first cone on the first's side of that
+/// plane and in the second on the other side, so (each cone joined lying in the part)
+/// it points into the part. A direction along a cut points into neither piece by more
+/// than zero, into a joined cone by as much as it points into the part there; three
+/// pieces around a vertex join in two steps.
+fn joined_across_cuts(cones: &[Vec<DVec3>]) -> Vec<Vec<DVec3>> {
+    let same = |a: DVec3, b: DVec3| a.distance_squared(b) <= 1e-20;
+    let same_cone = |a: &[DVec3], b: &[DVec3]| {
+        a.iter().all(|&n| b.iter().any(|&m| same(n, m))) && b.iter().all(|&m| a.iter().any(|&n| same(n, m)))
+    };
+    let mut all: Vec<Vec<DVec3>> = cones.to_vec();
+    let mut next = 0;
+    while next < all.len() && all.len() < cones.len() + MOST_JOINED {
+        for i in 0..next {
+            let (first, second) = (&all[i], &all[next]);
+            let mut found = Vec::new();
+            for &cut in first.iter().filter(|&&n| second.iter().any(|&m| same(n, -m))) {
+                let mut sides: Vec<DVec3> = Vec::new();
+                for &n in first
+                    .iter()
+                    .filter(|&&n| !same(n, cut))
+                    .chain(second.iter().filter(|&&m| !same(m, -cut)))
+                {
+                    if !sides.iter().any(|&m| same(n, m)) {
+                        sides.push(n);
+                    }
+                }
+                if !sides.is_empty() && !all.iter().chain(&found).any(|c| same_cone(c, &sides)) {
+                    found.push(sides);
+                }
+            }
+            all.extend(found);
+        }
+        next += 1;
+    }
+    all.split_off(cones.len())
+}
+
+/// Cones [`joined_across_cuts`] adds at most at one vertex.
+const MOST_JOINED: usize = 64;
 
 /// Every direction a vertex's part leaves it along that [`edges_leaving`] and
 /// [`reflex_directions`] show: its edges' and, at a reflex corner of a face, the
@@ -1279,6 +1332,53 @@ mod tests {
         let witness = at(5e-3, -2e-4);
         assert_eq!(flaw(witness), None);
         assert!(turns.may_hold(&point(witness)));
+    }
+
+    #[test]
+    fn the_pegs_edge_along_a_cut_through_the_holes_corner_points_into_the_block_across_the_cut() {
+        // The hole's corner v5 (35, 35, 50) on the tilted peg's bottom edge e2 (y = 36,
+        // z = 10, along x), 10 mm from its end, as the tilted peg's undecided candidate
+        // had it. With no turn about z the edge stays parallel to the rim y = 35, and
+        // the block's pieces are cut along that plane: the edge's dipping half runs
+        // along the cut, over the block's top, into no piece's cone by more than zero.
+        let (hole, peg) = (
+            crate::testing::fixture("block_with_hole.off"),
+            crate::testing::fixture("peg.off"),
+        );
+        let d = 1f64.to_radians();
+        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
+        let target = [crate::testing::contact("v5", "e2", K::VertexEdge)];
+        let (rx, ry) = (0.0166, -0.012);
+        let rotation = glam::DMat3::from_rotation_y(ry) * glam::DMat3::from_rotation_x(rx);
+        let corner = DVec3::new(35.0, 35.0, 50.0);
+        let t = corner - rotation * DVec3::new(46.0, 36.0, 10.0);
+        let pose = Pose::from_array([t.x, t.y, t.z, rx, ry, 0.0]);
+        // The contact module reads the corner on the edge; the witness check finds
+        // the parts penetrating.
+        let placement = pose.to_affine(&glam::DAffine3::IDENTITY);
+        let report = problem.scene().evaluate(&placement, CONTACT_REL);
+        assert!(report.contacts.contains(&target[0]));
+        assert!(matches!(
+            crate::feasibility::witness_flaw(problem.scene(), &placement, &report),
+            Some(crate::feasibility::WitnessFlaw::Penetration(_))
+        ));
+        // The edge's dipping direction, into no piece's cone and into a joined one.
+        let dip = -(rotation * DVec3::X);
+        assert!(dip.z < 0.0);
+        let inside = |cone: &Vec<DVec3>| cone.iter().all(|n| n.dot(dip) < -1e-3);
+        let v5 = crate::model::VertexId(5);
+        assert_eq!(hole.vertex(v5).position, corner);
+        let near = scaled(CONTACT_REL, problem.scale);
+        let pieces = cones_of_pieces(&hole, v5, near);
+        assert!(!pieces.iter().any(inside));
+        assert!(joined_across_cuts(&pieces).iter().any(inside));
+        // So the rotation conditions rule the pose out.
+        assert!(
+            !problem
+                .turns(&target)
+                .may_hold(&Bounds::try_new(pose.to_array(), pose.to_array()).unwrap())
+        );
     }
 
     #[test]
