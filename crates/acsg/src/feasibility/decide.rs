@@ -53,6 +53,11 @@ pub enum Rule {
     /// convex face at that corner and on the same plane: the face would lie flush or
     /// cross the plane at the corner (`feasibility::hinge`); a last proof.
     FaceHinge,
+    /// A vertex at a reflex corner of one of its own part's faces on a face of the
+    /// other part (`feasibility::reflex`): along one of the corner's edges, or along
+    /// its continuation into the face, the vertex's part never rises off the other
+    /// face, so the parts penetrate or touch elsewhere; a last proof.
+    ReflexCorner,
     /// Two contacts hold two points of one edge on a face's plane, and no contact lists
     /// the edge on that face (`feasibility::two_points`): in exact geometry the edge
     /// would lie on the face. The witness check makes the same test, so the decisions
@@ -301,6 +306,9 @@ impl Problem<'_> {
             self.scene.distance_within(fixed, a, b)
         }) {
             return Err(Rule::FaceHinge);
+        }
+        if super::reflex::corner_on_a_face(self.fixed, self.moving, target) {
+            return Err(Rule::ReflexCorner);
         }
         self.conditions_from(
             target,

@@ -32,6 +32,7 @@ mod normals;
 mod parallel;
 mod pierce;
 mod prover;
+mod reflex;
 mod residual;
 mod slices;
 mod slide;
