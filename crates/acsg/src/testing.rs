@@ -39,6 +39,13 @@ pub(crate) fn edge_between(part: &crate::model::Part, p: glam::DVec3, q: glam::D
     ElementId::Edge(EdgeId(found.expect("no such edge") as u32))
 }
 
+/// The tilted square peg's bounds: x and y ±1 mm, z 0–45 mm, rx and ry ±1°, no turn
+/// about z.
+pub(crate) fn tilted_peg_bounds() -> crate::pose::Bounds {
+    let d = 1f64.to_radians();
+    crate::pose::Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).expect("valid bounds")
+}
+
 /// A fixture model by file name (`fixtures/` at the repository's root).
 pub(crate) fn fixture(name: &str) -> crate::model::Part {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");

@@ -1496,12 +1496,7 @@ mod tests {
         // propagation has not settled; run again on what it left, the tests rule it
         // out, so the box needs no split.
         let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let degree = std::f64::consts::PI / 180.0;
-        let bounds = Bounds::try_new(
-            [-1.0, -1.0, 0.0, -degree, -degree, 0.0],
-            [1.0, 1.0, 45.0, degree, degree, 0.0],
-        )
-        .unwrap();
+        let bounds = crate::testing::tilted_peg_bounds();
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [contact("v5", "e2", K::VertexEdge)];
         let Ok(conditions) = problem.last_conditions(&target) else {

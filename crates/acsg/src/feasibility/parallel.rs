@@ -352,11 +352,11 @@ mod tests {
     #[test]
     fn a_rim_edge_crossing_a_pegs_corner_edge_lies_in_its_side_face_when_the_yaw_is_pinned() {
         let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let d = 1f64.to_radians();
-        let pinned = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let pinned = crate::testing::tilted_peg_bounds();
         let crossing = [contact("e11", "e0", ContactKind::EdgeEdge)];
         assert!(held(&hole, &peg, &pinned, DMat3::IDENTITY, &crossing));
         // With the yaw free the face turns off the rim edge's direction.
+        let d = 1f64.to_radians();
         let free = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, -d], [1.0, 1.0, 45.0, d, d, d]).unwrap();
         assert!(!held(&hole, &peg, &free, DMat3::IDENTITY, &crossing));
     }
@@ -430,8 +430,7 @@ mod tests {
     #[test]
     fn where_the_pinned_crossing_holds_the_contact_module_reads_the_edge_in_the_face() {
         let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let d = 1f64.to_radians();
-        let pinned = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let pinned = crate::testing::tilted_peg_bounds();
         let problem = super::super::Problem::new(&hole, &peg, pinned, glam::DAffine3::IDENTITY);
         let crossing = [contact("e11", "e0", ContactKind::EdgeEdge)];
         let mut stats = super::super::SearchStats::default();

@@ -79,7 +79,7 @@ mod tests {
     use super::*;
     use crate::contact::ContactKind as K;
     use crate::feasibility::{Problem, Rule, witness_flaw};
-    use crate::pose::{Bounds, Pose};
+    use crate::pose::Pose;
     use crate::testing::{contact, fixture};
     use crate::tolerance::CONTACT_REL;
 
@@ -105,8 +105,7 @@ mod tests {
         // The hole's corner v5 (35, 35, 50) on the square peg's bottom f2 (z = 10, x
         // and y in [36, 64]), as the tilted peg's undecided candidates had it.
         let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let d = 1f64.to_radians();
-        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let bounds = crate::testing::tilted_peg_bounds();
         let problem = Problem::new(&block, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [contact("v5", "f2", K::VertexFace)];
         assert!(corner_on_a_face(&block, &peg, &target));

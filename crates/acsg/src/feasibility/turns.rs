@@ -1345,8 +1345,7 @@ mod tests {
             crate::testing::fixture("block_with_hole.off"),
             crate::testing::fixture("peg.off"),
         );
-        let d = 1f64.to_radians();
-        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let bounds = crate::testing::tilted_peg_bounds();
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [crate::testing::contact("v5", "e2", K::VertexEdge)];
         let (rx, ry) = (0.0166, -0.012);
@@ -1393,8 +1392,7 @@ mod tests {
             crate::testing::fixture("block_with_hole.off"),
             crate::testing::fixture("peg.off"),
         );
-        let d = 1f64.to_radians();
-        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let bounds = crate::testing::tilted_peg_bounds();
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [crate::testing::contact("e11", "e2", K::EdgeEdge)];
         let turns = problem.turns(&target);
@@ -1566,8 +1564,7 @@ mod tests {
             crate::testing::fixture("block_with_hole.off"),
             crate::testing::fixture("peg.off"),
         );
-        let d = 1f64.to_radians();
-        let bounds = Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).unwrap();
+        let bounds = crate::testing::tilted_peg_bounds();
         let problem = Problem::new(&a, &b, bounds, glam::DAffine3::IDENTITY);
         let corner = [crate::testing::contact("v5", "f2", K::VertexFace)];
         let at = |rx: [f64; 2], ry: [f64; 2]| {
