@@ -46,6 +46,13 @@ pub(crate) fn tilted_peg_bounds() -> crate::pose::Bounds {
     crate::pose::Bounds::try_new([-1.0, -1.0, 0.0, -d, -d, 0.0], [1.0, 1.0, 45.0, d, d, 0.0]).expect("valid bounds")
 }
 
+/// The turned square peg's bounds: x and y ±2 mm, z 0–45 mm, ry ±2°, rz ±1°, no
+/// turn about x.
+pub(crate) fn turned_peg_bounds() -> crate::pose::Bounds {
+    let (ry, rz) = (2f64.to_radians(), 1f64.to_radians());
+    crate::pose::Bounds::try_new([-2.0, -2.0, 0.0, 0.0, -ry, -rz], [2.0, 2.0, 45.0, 0.0, ry, rz]).expect("valid bounds")
+}
+
 /// A fixture model by file name (`fixtures/` at the repository's root).
 pub(crate) fn fixture(name: &str) -> crate::model::Part {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");

@@ -1402,12 +1402,7 @@ mod tests {
         // about y and z: a box the halving reached at its floor. Whole, the tests leave
         // it open; slabs of its angles fall one by one, and what is left falls too.
         let (hole, peg) = (fixture("block_with_chamfered_hole.off"), fixture("peg.off"));
-        let degree = std::f64::consts::PI / 180.0;
-        let bounds = Bounds::try_new(
-            [-2.0, -2.0, 0.0, 0.0, -2.0 * degree, -degree],
-            [2.0, 2.0, 45.0, 0.0, 2.0 * degree, degree],
-        )
-        .unwrap();
+        let bounds = crate::testing::turned_peg_bounds();
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [contact("v7", "e0", K::VertexEdge)];
         let Ok(conditions) = problem.last_conditions(&target) else {

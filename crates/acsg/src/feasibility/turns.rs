@@ -1583,8 +1583,7 @@ mod tests {
             crate::testing::fixture("block_with_chamfered_hole.off"),
             crate::testing::fixture("peg.off"),
         );
-        let (d, turn) = (2f64.to_radians(), 1f64.to_radians());
-        let bounds = Bounds::try_new([-2.0, -2.0, 0.0, 0.0, -d, -turn], [2.0, 2.0, 45.0, 0.0, d, turn]).unwrap();
+        let bounds = crate::testing::turned_peg_bounds();
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [crate::testing::contact("v7", "e0", K::VertexEdge)];
         let at = |ry: f64, rz: f64| {
@@ -1726,8 +1725,7 @@ mod tests {
             crate::testing::fixture("block_with_chamfered_hole.off"),
             crate::testing::fixture("peg.off"),
         );
-        let (ry, rz) = (2f64.to_radians(), 1f64.to_radians());
-        let bounds = Bounds::try_new([-2.0, -2.0, 0.0, 0.0, -ry, -rz], [2.0, 2.0, 45.0, 0.0, ry, rz]).unwrap();
+        let bounds = crate::testing::turned_peg_bounds();
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let mut target = vec![
             crate::testing::contact("f6", "e2", K::FaceEdge),
