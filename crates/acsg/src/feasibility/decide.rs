@@ -1221,13 +1221,9 @@ impl Problem<'_> {
     /// Whether a contact of the target holds the pair of a fixed element `x` and a
     /// moving element `y` (see [`Problem::holds_other_pair`]).
     fn held(&self, target: &[PrincipalContact], x: ElementId, y: ElementId) -> bool {
-        let shares = |part: &Part, x: ElementId, a: ElementId| {
-            let around = part.closure_vertices(a);
-            part.closure_vertices(x).iter().any(|v| around.contains(v))
-        };
         target
             .iter()
-            .any(|pc| shares(self.fixed, x, pc.fixed) && shares(self.moving, y, pc.moving))
+            .any(|pc| self.fixed.share_a_vertex(x, pc.fixed) && self.moving.share_a_vertex(y, pc.moving))
     }
 
     /// A witness found by sliding ([`Problem::slide`]) at the centres of a box's eight

@@ -36,13 +36,9 @@ pub(crate) fn corner_on_a_face(fixed: &Part, moving: &Part, target: &[PrincipalC
             (ContactKind::FaceVertex, ElementId::Face(f), ElementId::Vertex(v)) => (moving, v, fixed, f, false),
             _ => return false,
         };
-        let face_vertices = face_part.closure_vertices(ElementId::Face(face));
         let alone = target.iter().filter(|other| *other != pc).all(|other| {
             let element = if face_moves { other.moving } else { other.fixed };
-            !face_part
-                .closure_vertices(element)
-                .iter()
-                .any(|w| face_vertices.contains(w))
+            !face_part.share_a_vertex(element, ElementId::Face(face))
         });
         alone && is_reflex_corner(corner_part, vertex)
     })

@@ -1060,15 +1060,10 @@ impl Problem<'_> {
     /// over the box). Penetration is not needed: a dip that deep is ruled out too.
     fn add_exits(&self, pc: &PrincipalContact, target: &[PrincipalContact], e: EdgeId, x: EdgeId, out: &mut Turns) {
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
-        let shares = |part: &Part, a: ElementId, b: ElementId| {
-            let around = part.closure_vertices(b);
-            part.closure_vertices(a).iter().any(|v| around.contains(v))
-        };
         let clear = |fixed: ElementId, moving: ElementId| {
-            target
-                .iter()
-                .filter(|&other| other != pc)
-                .all(|other| !(shares(self.fixed, other.fixed, fixed) && shares(self.moving, other.moving, moving)))
+            target.iter().filter(|&other| other != pc).all(|other| {
+                !(self.fixed.share_a_vertex(other.fixed, fixed) && self.moving.share_a_vertex(other.moving, moving))
+            })
         };
         let edges = self.edge_pair(e, x);
         let exit = Exit {

@@ -201,6 +201,12 @@ impl Part {
             ElementId::Face(f) => self.face(f).loops.iter().flat_map(|l| l.vertices.clone()).collect(),
         }
     }
+    /// Whether two elements' closures share a vertex (an element shares its own).
+    #[must_use]
+    pub fn share_a_vertex(&self, a: ElementId, b: ElementId) -> bool {
+        let around = self.closure_vertices(b);
+        self.closure_vertices(a).iter().any(|v| around.contains(v))
+    }
     /// The edges in an element's closure.
     #[must_use]
     pub fn closure_edges(&self, e: ElementId) -> Vec<EdgeId> {
