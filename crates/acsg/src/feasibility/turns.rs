@@ -116,11 +116,7 @@ impl EdgePair {
     /// (nearly) parallel to the other at the centre.
     fn crossing_positions(&self, b: &Bounds) -> [Option<(f64, f64)>; 2] {
         let (fixed, moving, tolerance) = (&self.fixed, &self.moving, self.tolerance);
-        let center = b.center();
-        let (rotation, translation) = (center.rotation(), center.translation());
-        let w = b.width();
-        let shift = 0.5 * DVec3::new(w[0], w[1], w[2]).length();
-        let turn = 0.5 * (w[3] + w[4] + w[5]);
+        let centre = CentreMotion::of(b);
         let along = |on: &[DVec3; 2], line: [DVec3; 2], within: f64| {
             let length = on[0].distance(on[1]);
             let (d, m) = ((on[1] - on[0]) / length, (line[1] - line[0]).normalize());
@@ -135,13 +131,52 @@ impl EdgePair {
             let half = within / sine;
             Some((s - half, s + half))
         };
-        let placed = moving.map(|p| rotation * p + translation);
-        let moving_shift = shift + turn * moving.iter().map(|p| p.length()).fold(0.0, f64::max);
-        let on_fixed = along(fixed, placed, tolerance + moving_shift);
-        let fixed_in_b = fixed.map(|p| rotation.transpose() * (p - translation));
-        let fixed_shift = shift + turn * fixed.iter().map(|p| p.distance(translation)).fold(0.0, f64::max);
-        let on_moving = along(moving, fixed_in_b, tolerance + fixed_shift);
+        let placed = moving.map(|p| centre.moving_to_g(p));
+        let moving_shift = placed.iter().map(|&(_, moved)| moved).fold(0.0, f64::max);
+        let on_fixed = along(fixed, placed.map(|(p, _)| p), tolerance + moving_shift);
+        let fixed_in_b = fixed.map(|p| centre.g_to_moving(p));
+        let fixed_shift = fixed_in_b.iter().map(|&(_, moved)| moved).fold(0.0, f64::max);
+        let on_moving = along(moving, fixed_in_b.map(|(p, _)| p), tolerance + fixed_shift);
         [on_fixed, on_moving]
+    }
+}
+
+/// The pose at a box's centre and how far the box moves any point from where that pose
+/// puts it: the translations' half diagonal, plus the half widths of the angles summed
+/// times the point's distance from the centre of rotation.
+struct CentreMotion {
+    rotation: glam::DMat3,
+    translation: DVec3,
+    shift: f64,
+    turn: f64,
+}
+
+impl CentreMotion {
+    fn of(b: &Bounds) -> CentreMotion {
+        let (centre, w) = (b.center(), b.width());
+        CentreMotion {
+            rotation: centre.rotation(),
+            translation: centre.translation(),
+            shift: 0.5 * DVec3::new(w[0], w[1], w[2]).length(),
+            turn: 0.5 * (w[3] + w[4] + w[5]),
+        }
+    }
+
+    /// A point of the moving part placed in G's frame, and how far it moves over the box.
+    fn moving_to_g(&self, p: DVec3) -> (DVec3, f64) {
+        (
+            self.rotation * p + self.translation,
+            self.shift + self.turn * p.length(),
+        )
+    }
+
+    /// A point of G's frame seen in the moving part's frame, and how far it moves there
+    /// over the box.
+    fn g_to_moving(&self, p: DVec3) -> (DVec3, f64) {
+        (
+            self.rotation.transpose() * (p - self.translation),
+            self.shift + self.turn * p.distance(self.translation),
+        )
     }
 }
 
@@ -372,19 +407,11 @@ impl Sweep {
     /// (in the edge's part's frame), kept the margin from the edge's ends; `None` when
     /// the vertex stays off the edge or nothing is known.
     fn starts(&self, b: &Bounds) -> Option<[DVec3; 2]> {
-        let center = b.center();
-        let (rotation, translation) = (center.rotation(), center.translation());
-        let w = b.width();
-        let shift = 0.5 * DVec3::new(w[0], w[1], w[2]).length();
-        let turn = 0.5 * (w[3] + w[4] + w[5]);
+        let centre = CentreMotion::of(b);
         let (at, moved) = if self.vertex_fixed {
-            let q = rotation.transpose() * (self.vertex - translation);
-            (q, shift + turn * self.vertex.distance(translation))
+            centre.g_to_moving(self.vertex)
         } else {
-            (
-                rotation * self.vertex + translation,
-                shift + turn * self.vertex.length(),
-            )
+            centre.moving_to_g(self.vertex)
         };
         let length = self.edge[0].distance(self.edge[1]);
         let along = (self.edge[1] - self.edge[0]) / length;
