@@ -25,6 +25,7 @@
 
 mod below;
 mod decide;
+mod dip;
 mod hinge;
 mod interval;
 mod lp;

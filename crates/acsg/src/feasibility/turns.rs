@@ -13,6 +13,7 @@
 use glam::DVec3;
 
 use super::Problem;
+use super::dip::Dip;
 use super::interval::{Interval, IntervalMat, rotation_enclosure, turned_value as value};
 use super::pierce::{Crossing, Pierce};
 use super::prover::{face_untouched, implied};
@@ -45,15 +46,18 @@ struct Wedge {
     /// The two edges, for how far the crossing stays from their ends over a box, when
     /// each of their faces lies in one convex piece of its part.
     ends: Option<Ends>,
+    /// Per value of `on_a`, then of `on_b`, the range the target's plain conditions keep
+    /// it in ([`Turns::know_values`]); the whole line when none does (or none is known).
+    known: [Vec<Interval>; 2],
 }
 
 /// Two crossing edges, the fixed one in G's frame and the moving one in its part's
 /// frame, and the contact tolerance they cross within.
 #[derive(Clone, Copy, Debug)]
-struct EdgePair {
+pub(super) struct EdgePair {
     fixed: [DVec3; 2],
     moving: [DVec3; 2],
-    tolerance: f64,
+    pub(super) tolerance: f64,
 }
 
 /// Two crossing edges and each edge's faces as the other boundary edges that bound how
@@ -67,27 +71,13 @@ struct Ends {
 }
 
 impl Ends {
-    /// The least distance, at any pose of `b`, from the crossing (the contact within the
-    /// tolerance) to an end of either edge; zero when nothing is known.
-    fn least_from_ends(&self, b: &Bounds) -> f64 {
-        let positions = self.edges.crossing_positions(b);
-        [self.edges.fixed, self.edges.moving]
-            .iter()
-            .zip(positions)
-            .map(|(edge, range)| {
-                let length = edge[0].distance(edge[1]);
-                range.map_or(0.0, |(lo, hi)| lo.min(length - hi).max(0.0))
-            })
-            .fold(f64::INFINITY, f64::min)
-    }
-
     /// How far along the edges from the crossing a face turned past the plane through
     /// both surely overlaps the other part, at every pose of `b`: within half the
     /// crossing's least distance from the edges' ends, and no farther than the edges'
     /// faces are wide there (where the wedges overlap, the edges are at most that far
     /// apart); zero when nothing is known.
     fn reach(&self, b: &Bounds) -> f64 {
-        let half = 0.5 * self.least_from_ends(b);
+        let half = 0.5 * self.edges.least_from_ends(b);
         if half <= 0.0 {
             return 0.0;
         }
@@ -109,6 +99,20 @@ impl Ends {
 }
 
 impl EdgePair {
+    /// The least distance, at any pose of `b`, from the crossing (the contact within the
+    /// tolerance) to an end of either edge; zero when nothing is known.
+    pub(super) fn least_from_ends(&self, b: &Bounds) -> f64 {
+        let positions = self.crossing_positions(b);
+        [self.fixed, self.moving]
+            .iter()
+            .zip(positions)
+            .map(|(edge, range)| {
+                let length = edge[0].distance(edge[1]);
+                range.map_or(0.0, |(lo, hi)| lo.min(length - hi).max(0.0))
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Where along each of two crossing edges (from its first end) the crossing lies at
     /// any pose of `b`, fixed edge (in G's frame) then moving edge (in its part's frame):
     /// within the tolerance, plus how far the box moves the other edge, of that edge's
@@ -306,6 +310,8 @@ pub(crate) struct Turns {
     sweeps: Vec<Sweep>,
     pierce: Vec<Pierce>,
     exits: Vec<Exit>,
+    /// Crossing edges running over a face and into it (the last proofs only).
+    dips: Vec<Dip>,
 }
 
 /// A direction of one part at a vertex held in an edge of the other that must not
@@ -447,8 +453,20 @@ impl Wedge {
     /// most the tolerance over the separation: the slack holds for the unit normal, and
     /// near-parallel edges no longer pass every test.
     fn sides(&self, r: &IntervalMat, bounds: &Bounds) -> (bool, bool) {
-        let a: Vec<Interval> = self.on_a.iter().map(|&(n, d)| value(r, n, d)).collect();
-        let b: Vec<Interval> = self.on_b.iter().map(|&(n, d)| value(r, n, d)).collect();
+        let within = |pairs: &[(DVec3, DVec3)], known: &[Interval]| -> Vec<Interval> {
+            let whole = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
+            pairs
+                .iter()
+                .enumerate()
+                .map(|(i, &(n, d))| value(r, n, d).meet(known.get(i).copied().unwrap_or(whole)))
+                .collect()
+        };
+        let a = within(&self.on_a, &self.known[0]);
+        let b = within(&self.on_b, &self.known[1]);
+        if a.iter().chain(&b).any(|v| v.is_empty()) {
+            // A plain condition on the same value rules the whole box out.
+            return (false, false);
+        }
         let s = self.normal.map_or(self.slack, |components| {
             // |n| at most, over the box.
             let length = components
@@ -493,28 +511,71 @@ impl Wedge {
 }
 
 impl Turns {
-    /// Gives each ray's rates the ranges the plain conditions keep them in: a rate
-    /// `n · (R d)` is the same value as a condition's on the same pair (or on both
-    /// negated; negated once, the range turns over), and a pose outside that range is
-    /// excluded anyway. Interval arithmetic alone sees two conditions on one value
-    /// apart, so a box straddling both would stay open.
-    fn know_pierced(&mut self) {
+    /// The range the plain conditions keep `n · (R d)` in: a condition on the same pair
+    /// (or on both negated) gives its range, one on a pair negated once its range
+    /// turned over; the whole line when none applies. A pose outside it is excluded
+    /// anyway, so a test of the same value may assume it: interval arithmetic alone
+    /// sees two conditions on one value apart, and a box straddling both stays open.
+    fn known_range(&self, n: DVec3, d: DVec3) -> Interval {
         let same = |a: DVec3, b: DVec3| a.distance_squared(b) <= 1e-20;
-        for pierce in &mut self.pierce {
-            let values: Vec<(DVec3, DVec3)> = pierce.values().collect();
-            for (i, (n, d)) in values.into_iter().enumerate() {
-                if (n.length() - 1.0).abs() > 1e-9 || (d.length() - 1.0).abs() > 1e-9 {
-                    continue;
+        let mut known = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
+        if (n.length() - 1.0).abs() > 1e-9 || (d.length() - 1.0).abs() > 1e-9 {
+            return known;
+        }
+        // The range of `t`'s interval for this value: as it is, turned over, or none.
+        let range = |t: &Turn| {
+            if (same(t.n, n) && same(t.d, d)) || (same(t.n, -n) && same(t.d, -d)) {
+                Some(Interval::new(t.lo, t.hi))
+            } else if (same(t.n, -n) && same(t.d, d)) || (same(t.n, n) && same(t.d, -d)) {
+                Some(Interval::new(-t.hi, -t.lo))
+            } else {
+                None
+            }
+        };
+        for t in &self.turns {
+            if let Some(r) = range(t) {
+                known = known.meet(r);
+            }
+        }
+        // A value kept out of an open interval that covers one end of the range: the
+        // range starts (or ends) past it (a direction leaving a held vertex that must
+        // rise, and rise clear of the face's plane).
+        for t in &self.avoid {
+            if let Some(r) = range(t) {
+                if known.lo > r.lo && known.lo < r.hi {
+                    known.lo = r.hi;
                 }
-                for t in &self.turns {
-                    if (same(t.n, n) && same(t.d, d)) || (same(t.n, -n) && same(t.d, -d)) {
-                        pierce.know(i, Interval::new(t.lo, t.hi));
-                    } else if (same(t.n, -n) && same(t.d, d)) || (same(t.n, n) && same(t.d, -d)) {
-                        pierce.know(i, Interval::new(-t.hi, -t.lo));
-                    }
+                if known.hi < r.hi && known.hi > r.lo {
+                    known.hi = r.lo;
                 }
             }
         }
+        known
+    }
+
+    /// Gives each ray's rates and each crossing wedge's values the ranges the plain
+    /// conditions keep them in ([`Turns::known_range`]): the wedge of two edges crossing
+    /// next to a vertex held on a face tests the vertex's edge against the same value
+    /// the face does, one on either side of zero in the limit of a larger state.
+    fn know_values(&mut self) {
+        let mut pierce = std::mem::take(&mut self.pierce);
+        for p in &mut pierce {
+            let values: Vec<(DVec3, DVec3)> = p.values().collect();
+            for (i, (n, d)) in values.into_iter().enumerate() {
+                p.know(i, self.known_range(n, d));
+            }
+        }
+        self.pierce = pierce;
+        let mut wedges = std::mem::take(&mut self.wedges);
+        for w in &mut wedges {
+            w.known = [&w.on_a, &w.on_b].map(|pairs| pairs.iter().map(|&(n, d)| self.known_range(n, d)).collect());
+        }
+        self.wedges = wedges;
+        let mut dips = std::mem::take(&mut self.dips);
+        for dip in &mut dips {
+            dip.known = dip.values().map(|(n, d)| self.known_range(n, d));
+        }
+        self.dips = dips;
     }
 
     /// Whether some rotation in the box may meet every condition (`false` proves that
@@ -546,6 +607,7 @@ impl Turns {
                 !flush || f.side.is_some_and(|(u, w)| value(&r, u, w).hi <= 0.0)
             })
             && !self.pierce.iter().any(|p| p.certain(&r, b))
+            && !self.dips.iter().any(|d| d.excludes(&r, b))
             && !self
                 .exits
                 .iter()
@@ -587,6 +649,15 @@ impl Turns {
             wedge.ends = None;
         }
         turns
+    }
+
+    /// The same conditions without the dips of crossing edges ([`Dip`]).
+    #[cfg(test)]
+    pub(crate) fn without_dips(&self) -> Turns {
+        Turns {
+            dips: Vec::new(),
+            ..self.clone()
+        }
     }
 
     /// The same conditions without the exits of crossing edges ([`Exit`]).
@@ -717,7 +788,7 @@ impl Problem<'_> {
         for pc in target {
             self.add_turns(pc, target, least, &mut turns);
         }
-        turns.know_pierced();
+        turns.know_values();
         turns
     }
 
@@ -903,8 +974,23 @@ impl Problem<'_> {
                     slack: tilt(le.min(lx)).max(LEVER_SLACK),
                     normal: ends_apart.then_some(components),
                     ends: self.ends(e, x),
+                    known: [Vec::new(), Vec::new()],
                 });
                 self.add_exits(pc, target, e, x, out);
+                if least > 0.0 {
+                    let edges = (e, x, self.edge_pair(e, x));
+                    let separation = self.separation();
+                    out.dips.extend(super::dip::of_crossing(
+                        self.fixed,
+                        self.moving,
+                        target,
+                        pc,
+                        edges,
+                        separation,
+                        ends_apart,
+                        &to_g,
+                    ));
+                }
                 // And where a face dips past that plane, the other edge runs on into
                 // the face's part: as deep as the part's faces allow over the edge's
                 // length, not only up to the margin.

@@ -1,0 +1,300 @@
+//! An edge that runs over a face at a crossing and descends into it: a rotation-only
+//! test, for the last proofs, that no pose shows a crossing robustly.
+//!
+//! Let a convex edge `e` of one part cross a convex edge `x` of the other at `O`, and let
+//! `g` be a face of `x`'s part at `x`, with outward normal `n` and in-face direction `w`
+//! (perpendicular to `x`, into `g`). Going from `O` along `σ e` with `σ (e · w) > 0`, the
+//! edge `e` runs over `g` (its points project into `g`, past `x`); it descends into `g`'s
+//! part when `σ (e · n) < 0`. Its height over `g`'s plane is then linear and falling: at
+//! most the contact tolerance at `O` (the crossing holds to it), lower farther on. Follow
+//! `e` over `g` to where it leaves `g` or ends. Either its far point lies deeper than the
+//! tolerance below `g`, inside `g`'s part (the parts penetrate), or the whole stretch
+//! lies within the tolerance of `g`'s plane: two points of `e` over `g` within the
+//! contact tolerance of its plane, which every checker reads as `e` lying in `g` (e-f
+//! or f-e, DOMAIN section 7), a contact the crossing does not list or imply. So no pose
+//! at which `e` descends over `g` is a robust witness, however little it descends: the
+//! decisions' wedge test allows a dip up to the tolerance over a lever, because it
+//! counts only penetration.
+//!
+//! Two margins keep the argument exact. The crossing lies some distance `D` from the
+//! ends of both edges, at least the separation (`1e-6 L`) at a robust witness, more
+//! where the box keeps it farther ([`Dip::least_side`]); so `e` runs at least that far
+//! past `O`, and its points reach past `x` (which the crossing misses by up to the
+//! tolerance) within `D / 2` once `|e · w|` is at least four times the tolerance over
+//! `D`. And `g` must be wider than that next to `x`: a face whose corners at `x`'s ends
+//! are slivers is left out. Another contact of
+//! the target that pairs `e` (or a face at `e`) with `g` could list the stretch, so then
+//! the test says nothing. The same holds with the parts' roles swapped: `x` over a face
+//! of `e`'s part.
+
+use glam::DVec3;
+
+use super::interval::{Interval, IntervalMat, turned_value as value};
+use super::turns::EdgePair;
+use crate::contact::PrincipalContact;
+use crate::model::{EdgeId, ElementId, FaceId, Part};
+use crate::pose::Bounds;
+
+/// Round-off allowed in a value `n · (R d)` of unit vectors.
+const ROUND_OFF: f64 = 1e-12;
+
+/// A face's corner at an end of the crossing edge narrower than this (radians) leaves
+/// the face out: the face may be too thin next to the edge for the stretch.
+const LEAST_CORNER: f64 = 1e-2;
+
+/// One edge against one face at the other edge of a crossing, as values `a · (R b)`
+/// (`a` in G's frame, `b` in the moving part's): `side` tells which way along the edge
+/// runs over the face, `rise` how it leaves the face's plane that way.
+#[derive(Clone, Debug)]
+pub(super) struct Dip {
+    side: (DVec3, DVec3),
+    rise: (DVec3, DVec3),
+    /// The crossing edges, for how far the crossing lies from their ends over a box.
+    edges: EdgePair,
+    /// The separation: no robust crossing lies nearer an end of either edge.
+    separation: f64,
+    /// The components of `e × R x` (values `a · (R b)`), when every end of either edge
+    /// must keep the separation from the other edge (no contact of the target implies
+    /// those pairs): the crossing then lies at least the separation over the sine of
+    /// the edges' angle from every end.
+    components: Option<[(DVec3, DVec3); 3]>,
+    /// The ranges the target's plain conditions keep `side` and `rise` in.
+    pub known: [Interval; 2],
+}
+
+impl Dip {
+    /// The two values, for [`super::turns::Turns`] to find what it knows of them.
+    pub fn values(&self) -> [(DVec3, DVec3); 2] {
+        [self.side, self.rise]
+    }
+
+    /// The least `|e · w|` at which the edge surely runs over the face past the
+    /// crossing at every pose of `b` (rotations enclosed by `r`): four times the
+    /// tolerance over the crossing's least distance `D` from the edges' ends, so that the
+    /// edge is twice the tolerance past `x` within `D / 2` of the crossing, and so at
+    /// least that far from `x`'s ends.
+    ///
+    /// `D` is at least the separation, at least what the box keeps it to, and, with
+    /// the ends kept apart, at least `(separation − 2 tolerance) / sin θ`: the end
+    /// nearest the crossing, `D` from it, has its foot on the other edge (every end of
+    /// that edge is at least `D` away), and lies `D sin θ` from it to the tolerance.
+    fn least_side(&self, r: &IntervalMat, b: &Bounds) -> f64 {
+        let tolerance = self.edges.tolerance;
+        let by_angle = self.components.map_or(0.0, |components| {
+            let sine = components
+                .iter()
+                .map(|&(n, d)| {
+                    let v = value(r, n, d);
+                    v.lo.abs().max(v.hi.abs())
+                })
+                .map(|m| m * m)
+                .sum::<f64>()
+                .sqrt();
+            (self.separation - 2.0 * tolerance) / sine
+        });
+        let least = self.edges.least_from_ends(b).max(self.separation).max(by_angle);
+        4.0 * tolerance / least
+    }
+
+    /// Whether at every pose of `b` (rotations enclosed by `r`) the edge runs over the
+    /// face one way and descends into it that way (then no pose of the box is a robust
+    /// witness).
+    pub fn excludes(&self, r: &IntervalMat, b: &Bounds) -> bool {
+        let side = value(r, self.side.0, self.side.1).meet(self.known[0]);
+        let rise = value(r, self.rise.0, self.rise.1).meet(self.known[1]);
+        if side.is_empty() || rise.is_empty() {
+            // The plain conditions on these values rule every rotation of the box out
+            // together.
+            return true;
+        }
+        let descends = (side.lo > 0.0 && rise.hi < -ROUND_OFF) || (side.hi < 0.0 && rise.lo > ROUND_OFF);
+        descends && side.lo.abs().min(side.hi.abs()) >= self.least_side(r, b)
+    }
+}
+
+/// The dips of a crossing `pc` (fixed edge `e`, moving edge `x`) of `target`, both
+/// ways; `to_g` takes the fixed part's directions to G's frame.
+pub(super) fn of_crossing(
+    fixed: &Part,
+    moving: &Part,
+    target: &[PrincipalContact],
+    pc: &PrincipalContact,
+    (e, x, edges): (EdgeId, EdgeId, EdgePair),
+    separation: f64,
+    ends_apart: bool,
+    to_g: &dyn Fn(DVec3) -> DVec3,
+) -> Vec<Dip> {
+    let de = to_g(fixed.edge_direction(e));
+    let dx = moving.edge_direction(x);
+    // (d_e × R d_x)_k = (e_k × d_e) · (R d_x).
+    let components = ends_apart.then(|| DVec3::AXES.map(|axis| (axis.cross(de), dx)));
+    // Whether another contact pairs an element whose closure holds `edge` (on `edge`'s
+    // part) with the face `face` (on the other part).
+    let listed = |edge_on_fixed: bool, edge: EdgeId, face: FaceId| {
+        target.iter().filter(|other| *other != pc).any(|other| {
+            let (mine, theirs, part) = if edge_on_fixed {
+                (other.fixed, other.moving, fixed)
+            } else {
+                (other.moving, other.fixed, moving)
+            };
+            theirs == ElementId::Face(face) && part.in_closure(mine, ElementId::Edge(edge))
+        })
+    };
+    let mut dips = Vec::new();
+    // The fixed edge over the moving edge's faces: e · R w and e · R n.
+    for (&g, w) in moving.edge(x).faces.iter().zip(moving.edge_wedge(x)) {
+        if wide_at(moving, g, x) && !listed(true, e, g) {
+            dips.push(Dip {
+                side: (de, w),
+                rise: (de, moving.face(g).normal),
+                edges,
+                separation,
+                components,
+                known: [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 2],
+            });
+        }
+    }
+    // The moving edge over the fixed edge's faces: u · R x and n · R x.
+    for (&f, u) in fixed.edge(e).faces.iter().zip(fixed.edge_wedge(e)) {
+        if wide_at(fixed, f, e) && !listed(false, x, f) {
+            dips.push(Dip {
+                side: (to_g(u), dx),
+                rise: (to_g(fixed.face(f).normal), dx),
+                edges,
+                separation,
+                components,
+                known: [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 2],
+            });
+        }
+    }
+    dips
+}
+
+/// Whether both of face `f`'s corners at the ends of its edge `x` open by at least
+/// [`LEAST_CORNER`] (reflex corners do).
+fn wide_at(part: &Part, f: FaceId, x: EdgeId) -> bool {
+    let normal = part.face(f).normal;
+    part.face(f).loops.iter().all(|l| {
+        let n = l.vertices.len();
+        (0..n).filter(|&i| l.edges[i] == x).all(|i| {
+            let p = |k: usize| part.vertex(l.vertices[k % n]).position;
+            // The loop runs p(i) → p(i+1) along x; the corners there are at p(i) (from
+            // p(i−1)) and at p(i+1) (towards p(i+2)).
+            let opening = |a: DVec3, corner: DVec3, b: DVec3| {
+                let (u, v) = ((a - corner).normalize(), (b - corner).normalize());
+                // The interior angle, measured counter-clockwise about the normal from
+                // the loop's outgoing edge to its incoming one.
+                let angle = v.cross(u).dot(normal).atan2(u.dot(v));
+                if angle < 0.0 {
+                    angle + std::f64::consts::TAU
+                } else {
+                    angle
+                }
+            };
+            let first = opening(p(i + n - 1), p(i), p(i + 1));
+            let second = opening(p(i), p(i + 1), p(i + 2));
+            first >= LEAST_CORNER && second >= LEAST_CORNER
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::{DMat3, DVec3};
+
+    use super::*;
+    use crate::contact::ContactKind as K;
+    use crate::examples::{l_block_and_box, paper_bounds};
+    use crate::feasibility::{Problem, witness_flaw};
+    use crate::pose::Pose;
+    use crate::testing::contact;
+    use crate::tolerance::CONTACT_REL;
+
+    /// The built-in example's box turned by `(rx, ry, rz)`, its corner v6 (150, 90, 50)
+    /// on the wall (x = 150) at height `y6`, its bottom back edge e6 (towards v2 (50,
+    /// 90, 50)) crossing the slab's top back edge e7 (y = 100, z = 50): `None` when
+    /// the crossing is not inside e6.
+    fn corner_on_the_wall_and_edges_crossing(rx: f64, ry: f64, rz: f64, y6: f64) -> Option<Pose> {
+        let rotation = DMat3::from_rotation_z(rz) * DMat3::from_rotation_y(ry) * DMat3::from_rotation_x(rx);
+        let (v6, v2) = (
+            rotation * DVec3::new(150.0, 90.0, 50.0),
+            rotation * DVec3::new(50.0, 90.0, 50.0),
+        );
+        let mut t = DVec3::new(150.0 - v6.x, y6 - v6.y, 0.0);
+        let d = v2 - v6;
+        let s = (100.0 - (v6.y + t.y)) / d.y;
+        if !(0.01..=0.99).contains(&s) {
+            return None;
+        }
+        t.z = 50.0 - (v6.z + s * d.z);
+        Some(Pose::from_array([t.x, t.y, t.z, rx, ry, rz]))
+    }
+
+    #[test]
+    fn the_slabs_edge_descending_under_the_boxs_bottom_is_never_a_witness_and_the_last_proofs_say_so() {
+        // The built-in example's undecided {f-v f5 v6, e-e e7 e6}: the box tilted back
+        // about x, its bottom back edge crossing the slab's top back edge at a grazing
+        // angle, its corner on the wall. Its edge up the wall, e11, rises off the wall
+        // only when the slab's edge, running under the box's bottom, descends into it
+        // (both are the sign of `(R z)_x`): the limit of a larger state, which the
+        // halving could not separate.
+        let (block, boxed) = l_block_and_box();
+        let bounds = paper_bounds();
+        let problem = Problem::new(&block, &boxed, bounds, glam::DAffine3::IDENTITY);
+        let mut target = [contact("f5", "v6", K::FaceVertex), contact("e7", "e6", K::EdgeEdge)];
+        target.sort();
+        // Independently, the contact module and the witness check over the family,
+        // on both sides of the limit `rz / ry = cot(−rx)`.
+        let mut holding = 0;
+        let mut descending = 0;
+        for rx in [-0.3, -0.25, -0.2, -0.15, -0.1] {
+            for ry in [-0.008, -0.004, -0.002, -0.001] {
+                for share in [0.5, 0.9, 0.99, 0.999, 1.001, 1.01, 1.1, 2.0] {
+                    let rz = ry * share / (-rx as f64).tan();
+                    for y6 in [99.9, 99.5, 99.0, 98.0] {
+                        let Some(pose) = corner_on_the_wall_and_edges_crossing(rx, ry, rz, y6) else {
+                            continue;
+                        };
+                        let placement = pose.to_affine(&glam::DAffine3::IDENTITY);
+                        let report = problem.scene().evaluate(&placement, CONTACT_REL);
+                        if report.contacts == target {
+                            holding += 1;
+                        }
+                        let rotation = pose.rotation();
+                        // The slab's edge e7 (x) against the box's bottom f2: which way
+                        // it runs over it, and how it leaves its plane.
+                        let side = DVec3::X.dot(rotation * DVec3::NEG_Y);
+                        let rise = DVec3::X.dot(rotation * DVec3::NEG_Z);
+                        if side * rise < 0.0 {
+                            descending += 1;
+                        }
+                        let witness =
+                            report.contacts == target && witness_flaw(problem.scene(), &placement, &report).is_none();
+                        assert!(!witness, "a witness at {pose:?}");
+                    }
+                }
+            }
+        }
+        assert!(
+            holding >= 50 && descending >= 50,
+            "{holding} poses read the target, {descending} descend"
+        );
+        // A small box across the limit (its turns 1e-3 wide either way): where the
+        // corner's edge rises off the wall, the slab's edge descends under the bottom;
+        // where it does not, the edge dips into the wall. Only with the dips do the
+        // conditions see both.
+        let pose = corner_on_the_wall_and_edges_crossing(-0.3, -0.004, -0.004 * 0.9 / 0.3f64.tan(), 99.5)
+            .expect("a crossing inside the edge")
+            .to_array();
+        let widths = [1e-2, 1e-2, 1e-2, 1e-3, 1e-3, 1e-3];
+        let small = Bounds::try_new(
+            std::array::from_fn(|k| pose[k] - widths[k]),
+            std::array::from_fn(|k| pose[k] + widths[k]),
+        )
+        .expect("a box");
+        assert!(!problem.strict_turns(&target).may_hold(&small));
+        assert!(problem.strict_turns(&target).without_dips().may_hold(&small));
+        // The decisions' conditions leave it open: the dips are for the last proofs.
+        assert!(problem.turns(&target).may_hold(&small));
+    }
+}
