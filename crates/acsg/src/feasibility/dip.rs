@@ -29,6 +29,7 @@
 
 use glam::DVec3;
 
+use super::Problem;
 use super::interval::{Interval, IntervalMat, turned_value as value};
 use super::turns::EdgePair;
 use crate::contact::PrincipalContact;
@@ -112,62 +113,57 @@ impl Dip {
     }
 }
 
-/// The dips of a crossing `pc` (fixed edge `e`, moving edge `x`) of `target`, both
-/// ways; `to_g` takes the fixed part's directions to G's frame.
-pub(super) fn of_crossing(
-    fixed: &Part,
-    moving: &Part,
-    target: &[PrincipalContact],
-    pc: &PrincipalContact,
-    (e, x, edges): (EdgeId, EdgeId, EdgePair),
-    separation: f64,
-    ends_apart: bool,
-    to_g: &dyn Fn(DVec3) -> DVec3,
-) -> Vec<Dip> {
-    let de = to_g(fixed.edge_direction(e));
-    let dx = moving.edge_direction(x);
-    // (d_e × R d_x)_k = (e_k × d_e) · (R d_x).
-    let components = ends_apart.then(|| DVec3::AXES.map(|axis| (axis.cross(de), dx)));
-    // Whether another contact pairs an element whose closure holds `edge` (on `edge`'s
-    // part) with the face `face` (on the other part).
-    let listed = |edge_on_fixed: bool, edge: EdgeId, face: FaceId| {
-        target.iter().filter(|other| *other != pc).any(|other| {
-            let (mine, theirs, part) = if edge_on_fixed {
-                (other.fixed, other.moving, fixed)
-            } else {
-                (other.moving, other.fixed, moving)
-            };
-            theirs == ElementId::Face(face) && part.in_closure(mine, ElementId::Edge(edge))
-        })
-    };
-    let mut dips = Vec::new();
-    // The fixed edge over the moving edge's faces: e · R w and e · R n.
-    for (&g, w) in moving.edge(x).faces.iter().zip(moving.edge_wedge(x)) {
-        if wide_at(moving, g, x) && !listed(true, e, g) {
-            dips.push(Dip {
-                side: (de, w),
-                rise: (de, moving.face(g).normal),
-                edges,
-                separation,
-                components,
-                known: [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 2],
-            });
+impl Problem<'_> {
+    /// The dips of a crossing `pc` (fixed edge `e`, moving edge `x`) of `target`, both
+    /// ways; `ends_apart` when no contact of the target implies an end of either edge
+    /// on the other.
+    pub(super) fn dips(
+        &self,
+        target: &[PrincipalContact],
+        pc: &PrincipalContact,
+        (e, x): (EdgeId, EdgeId),
+        ends_apart: bool,
+    ) -> Vec<Dip> {
+        let (fixed, moving) = (self.fixed, self.moving);
+        let to_g = |d: DVec3| self.prover.fixed_direction(d);
+        let de = to_g(fixed.edge_direction(e));
+        let dx = moving.edge_direction(x);
+        let dip = |side, rise| Dip {
+            side,
+            rise,
+            edges: self.edge_pair(e, x),
+            separation: self.separation(),
+            // (d_e × R d_x)_k = (e_k × d_e) · (R d_x).
+            components: ends_apart.then(|| DVec3::AXES.map(|axis| (axis.cross(de), dx))),
+            known: [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 2],
+        };
+        // Whether another contact pairs an element whose closure holds `edge` (on
+        // `edge`'s part) with the face `face` (on the other part).
+        let listed = |edge_on_fixed: bool, edge: EdgeId, face: FaceId| {
+            target.iter().filter(|other| *other != pc).any(|other| {
+                let (mine, theirs, part) = if edge_on_fixed {
+                    (other.fixed, other.moving, fixed)
+                } else {
+                    (other.moving, other.fixed, moving)
+                };
+                theirs == ElementId::Face(face) && part.in_closure(mine, ElementId::Edge(edge))
+            })
+        };
+        let mut dips = Vec::new();
+        // The fixed edge over the moving edge's faces: e · R w and e · R n.
+        for (&g, w) in moving.edge(x).faces.iter().zip(moving.edge_wedge(x)) {
+            if wide_at(moving, g, x) && !listed(true, e, g) {
+                dips.push(dip((de, w), (de, moving.face(g).normal)));
+            }
         }
-    }
-    // The moving edge over the fixed edge's faces: u · R x and n · R x.
-    for (&f, u) in fixed.edge(e).faces.iter().zip(fixed.edge_wedge(e)) {
-        if wide_at(fixed, f, e) && !listed(false, x, f) {
-            dips.push(Dip {
-                side: (to_g(u), dx),
-                rise: (to_g(fixed.face(f).normal), dx),
-                edges,
-                separation,
-                components,
-                known: [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 2],
-            });
+        // The moving edge over the fixed edge's faces: u · R x and n · R x.
+        for (&f, u) in fixed.edge(e).faces.iter().zip(fixed.edge_wedge(e)) {
+            if wide_at(fixed, f, e) && !listed(false, x, f) {
+                dips.push(dip((to_g(u), dx), (to_g(fixed.face(f).normal), dx)));
+            }
         }
+        dips
     }
-    dips
 }
 
 /// Whether both of face `f`'s corners at the ends of its edge `x` open by at least
@@ -247,10 +243,10 @@ mod tests {
         // on both sides of the limit `rz / ry = cot(−rx)`.
         let mut holding = 0;
         let mut descending = 0;
-        for rx in [-0.3, -0.25, -0.2, -0.15, -0.1] {
+        for rx in [-0.3f64, -0.25, -0.2, -0.15, -0.1] {
             for ry in [-0.008, -0.004, -0.002, -0.001] {
                 for share in [0.5, 0.9, 0.99, 0.999, 1.001, 1.01, 1.1, 2.0] {
-                    let rz = ry * share / (-rx as f64).tan();
+                    let rz = ry * share / (-rx).tan();
                     for y6 in [99.9, 99.5, 99.0, 98.0] {
                         let Some(pose) = corner_on_the_wall_and_edges_crossing(rx, ry, rz, y6) else {
                             continue;

@@ -978,18 +978,7 @@ impl Problem<'_> {
                 });
                 self.add_exits(pc, target, e, x, out);
                 if least > 0.0 {
-                    let edges = (e, x, self.edge_pair(e, x));
-                    let separation = self.separation();
-                    out.dips.extend(super::dip::of_crossing(
-                        self.fixed,
-                        self.moving,
-                        target,
-                        pc,
-                        edges,
-                        separation,
-                        ends_apart,
-                        &to_g,
-                    ));
+                    out.dips.extend(self.dips(target, pc, (e, x), ends_apart));
                 }
                 // And where a face dips past that plane, the other edge runs on into
                 // the face's part: as deep as the part's faces allow over the edge's
@@ -1463,7 +1452,7 @@ impl Problem<'_> {
     }
 
     /// A fixed and a moving edge as crossing edges ([`EdgePair`]).
-    fn edge_pair(&self, e: EdgeId, x: EdgeId) -> EdgePair {
+    pub(super) fn edge_pair(&self, e: EdgeId, x: EdgeId) -> EdgePair {
         EdgePair {
             fixed: self.fixed.edge_points(e).map(|p| self.prover.fixed_point(p)),
             moving: self.moving.edge_points(x),
