@@ -18,23 +18,30 @@
 //!
 //! Two margins keep the argument exact. The crossing lies some distance `D` from the
 //! ends of both edges, at least the separation (`1e-6 L`) at a robust witness, more
-//! where the box keeps it farther ([`Dip::least_side`]); so `e` runs at least that far
-//! past `O`, and its points reach past `x` (which the crossing misses by up to the
+//! where the box keeps it farther ([`Dip::reach`]); so `e` runs at least that far past
+//! `O`, and its points reach past `x` (which the crossing misses by up to the
 //! tolerance) within `D / 2` once `|e · w|` is at least four times the tolerance over
 //! `D`. And `g` must be wider than that next to `x`: a face whose corners at `x`'s ends
-//! are slivers is left out. Another contact of
-//! the target that pairs `e` (or a face at `e`) with `g` could list the stretch, so then
-//! the test says nothing. The same holds with the parts' roles swapped: `x` over a face
-//! of `e`'s part.
+//! are slivers is left out. Another contact of the target that pairs `e` (or a face at
+//! `e`) with `g` could list the stretch, so then the test says nothing. The same holds
+//! with the parts' roles swapped: `x` over a face of `e`'s part.
+//!
+//! An edge that rises over `g`, but by less than the loose tolerance's margin over its
+//! length (`(0.99e-6 L − 1e-9 L) / ℓ`), has both its ends within the loose tolerance of
+//! `g`'s plane: the loose reading has it lying in `g` where it runs over it, a stretch
+//! longer than twice that tolerance when `D` is at least eight separations. That is no
+//! robust witness either ([`super::witness_flaw`] compares the two readings).
 
 use glam::DVec3;
 
+use super::LOOSE_CONTACT_REL;
 use super::Problem;
 use super::interval::{Interval, IntervalMat, turned_value as value};
 use super::turns::EdgePair;
 use crate::contact::PrincipalContact;
 use crate::model::{EdgeId, ElementId, FaceId, Part};
 use crate::pose::Bounds;
+use crate::tolerance::{CONTACT_REL, scaled};
 
 /// Round-off allowed in a value `n · (R d)` of unit vectors.
 const ROUND_OFF: f64 = 1e-12;
@@ -59,6 +66,10 @@ pub(super) struct Dip {
     /// those pairs): the crossing then lies at least the separation over the sine of
     /// the edges' angle from every end.
     components: Option<[(DVec3, DVec3); 3]>,
+    /// How far below which `|rise|` leaves the running edge, both its ends, within the
+    /// loose reading's tolerance of the face's plane (the tolerances' difference over
+    /// the edge's length).
+    flat: f64,
     /// The ranges the target's plain conditions keep `side` and `rise` in.
     pub known: [Interval; 2],
 }
@@ -69,18 +80,13 @@ impl Dip {
         [self.side, self.rise]
     }
 
-    /// The least `|e · w|` at which the edge surely runs over the face past the
-    /// crossing at every pose of `b` (rotations enclosed by `r`): four times the
-    /// tolerance over the crossing's least distance `D` from the edges' ends, so that the
-    /// edge is twice the tolerance past `x` within `D / 2` of the crossing, and so at
-    /// least that far from `x`'s ends.
-    ///
-    /// `D` is at least the separation, at least what the box keeps it to, and, with
-    /// the ends kept apart, at least `(separation − 2 tolerance) / sin θ`: the end
-    /// nearest the crossing, `D` from it, has its foot on the other edge (every end of
-    /// that edge is at least `D` away), and lies `D sin θ` from it to the tolerance.
-    fn least_side(&self, r: &IntervalMat, b: &Bounds) -> f64 {
-        let tolerance = self.edges.tolerance;
+    /// The crossing's least distance `D` from the edges' ends at every pose of `b`
+    /// (rotations enclosed by `r`): at least the separation, at least what the box keeps
+    /// it to, and, with the ends kept apart, at least `(separation − 2 tolerance) /
+    /// sin θ` (the end nearest the crossing, `D` from it, has its foot on the other
+    /// edge, every end of which is at least `D` away, and lies `D sin θ` from it to the
+    /// tolerance).
+    fn reach(&self, r: &IntervalMat, b: &Bounds) -> f64 {
         let by_angle = self.components.map_or(0.0, |components| {
             let sine = components
                 .iter()
@@ -91,15 +97,19 @@ impl Dip {
                 .map(|m| m * m)
                 .sum::<f64>()
                 .sqrt();
-            (self.separation - 2.0 * tolerance) / sine
+            (self.separation - 2.0 * self.edges.tolerance) / sine
         });
-        let least = self.edges.least_from_ends(b).max(self.separation).max(by_angle);
-        4.0 * tolerance / least
+        self.edges.least_from_ends(b).max(self.separation).max(by_angle)
     }
 
     /// Whether at every pose of `b` (rotations enclosed by `r`) the edge runs over the
-    /// face one way and descends into it that way (then no pose of the box is a robust
-    /// witness).
+    /// face one way and descends into it that way, or (with the crossing far enough from
+    /// the ends for the loose reading's stretch) rises too little to leave the loose
+    /// tolerance: then no pose of the box is a robust witness.
+    ///
+    /// It runs over the face once `|e · w|` is at least four times the tolerance over
+    /// `D` ([`Dip::reach`]): the edge is then twice the tolerance past `x` within `D /
+    /// 2` of the crossing, and so at least that far from `x`'s ends.
     pub fn excludes(&self, r: &IntervalMat, b: &Bounds) -> bool {
         let side = value(r, self.side.0, self.side.1).meet(self.known[0]);
         let rise = value(r, self.rise.0, self.rise.1).meet(self.known[1]);
@@ -108,10 +118,24 @@ impl Dip {
             // together.
             return true;
         }
-        let descends = (side.lo > 0.0 && rise.hi < -ROUND_OFF) || (side.hi < 0.0 && rise.lo > ROUND_OFF);
-        descends && side.lo.abs().min(side.hi.abs()) >= self.least_side(r, b)
+        let reach = self.reach(r, b);
+        let least_side = 4.0 * self.edges.tolerance / reach;
+        // Rising by less than `flat`, both ends of the edge lie within the loose
+        // reading's tolerance of the plane, and the edge lies in the face where it runs
+        // over it: a stretch longer than twice that tolerance once the crossing is far
+        // enough from the ends.
+        let least_rise = if reach >= FLAT_REACH * self.separation {
+            self.flat
+        } else {
+            -ROUND_OFF
+        };
+        (side.lo >= least_side && rise.hi < least_rise) || (side.hi <= -least_side && rise.lo > -least_rise)
     }
 }
+
+/// How far (in separations) the crossing must lie from the edges' ends for a rise
+/// below [`Dip::flat`] to be read as lying in the face.
+const FLAT_REACH: f64 = 8.0;
 
 impl Problem<'_> {
     /// The dips of a crossing `pc` (fixed edge `e`, moving edge `x`) of `target`, both
@@ -128,9 +152,15 @@ impl Problem<'_> {
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
         let de = to_g(fixed.edge_direction(e));
         let dx = moving.edge_direction(x);
-        let dip = |side, rise| Dip {
+        let loose = scaled(LOOSE_CONTACT_REL - CONTACT_REL, self.scale);
+        let length = |part: &Part, edge: EdgeId| {
+            let [p, q] = part.edge_points(edge);
+            p.distance(q)
+        };
+        let dip = |side, rise, running: f64| Dip {
             side,
             rise,
+            flat: loose / running,
             edges: self.edge_pair(e, x),
             separation: self.separation(),
             // (d_e × R d_x)_k = (e_k × d_e) · (R d_x).
@@ -153,13 +183,13 @@ impl Problem<'_> {
         // The fixed edge over the moving edge's faces: e · R w and e · R n.
         for (&g, w) in moving.edge(x).faces.iter().zip(moving.edge_wedge(x)) {
             if wide_at(moving, g, x) && !listed(true, e, g) {
-                dips.push(dip((de, w), (de, moving.face(g).normal)));
+                dips.push(dip((de, w), (de, moving.face(g).normal), length(fixed, e)));
             }
         }
         // The moving edge over the fixed edge's faces: u · R x and n · R x.
         for (&f, u) in fixed.edge(e).faces.iter().zip(fixed.edge_wedge(e)) {
             if wide_at(fixed, f, e) && !listed(false, x, f) {
-                dips.push(dip((to_g(u), dx), (to_g(fixed.face(f).normal), dx)));
+                dips.push(dip((to_g(u), dx), (to_g(fixed.face(f).normal), dx), length(moving, x)));
             }
         }
         dips
