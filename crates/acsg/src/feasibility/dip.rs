@@ -61,15 +61,20 @@ pub(super) struct Dip {
     edges: EdgePair,
     /// The separation: no robust crossing lies nearer an end of either edge.
     separation: f64,
-    /// The components of `e × R x` (values `a · (R b)`), when every end of either edge
-    /// must keep the separation from the other edge (no contact of the target implies
-    /// those pairs): the crossing then lies at least the separation over the sine of
-    /// the edges' angle from every end.
-    components: Option<[(DVec3, DVec3); 3]>,
+    /// The components of `e × R x` (values `a · (R b)`): the sine of the edges' angle.
+    components: [(DVec3, DVec3); 3],
+    /// Per end (the fixed edge's, then the moving edge's): whether it must keep the
+    /// separation from the other edge (no contact of the target implies the pair).
+    apart: [[bool; 2]; 2],
     /// How far below which `|rise|` leaves the running edge, both its ends, within the
     /// loose reading's tolerance of the face's plane (the tolerances' difference over
     /// the edge's length).
     flat: f64,
+    /// `e · (R x)`, the fixed edge's direction against the moving edge's: which way
+    /// the running edge's foot moves along the other edge.
+    along: (DVec3, DVec3),
+    /// Whether the running edge is the fixed one (the face is the moving part's).
+    runs_fixed: bool,
     /// The ranges the target's plain conditions keep `side` and `rise` in.
     pub known: [Interval; 2],
 }
@@ -80,26 +85,49 @@ impl Dip {
         [self.side, self.rise]
     }
 
-    /// The crossing's least distance `D` from the edges' ends at every pose of `b`
-    /// (rotations enclosed by `r`): at least the separation, at least what the box keeps
-    /// it to, and, with the ends kept apart, at least `(separation − 2 tolerance) /
-    /// sin θ` (the end nearest the crossing, `D` from it, has its foot on the other
-    /// edge, every end of which is at least `D` away, and lies `D sin θ` from it to the
-    /// tolerance).
-    fn reach(&self, r: &IntervalMat, b: &Bounds) -> f64 {
-        let by_angle = self.components.map_or(0.0, |components| {
-            let sine = components
-                .iter()
-                .map(|&(n, d)| {
-                    let v = value(r, n, d);
-                    v.lo.abs().max(v.hi.abs())
-                })
-                .map(|m| m * m)
-                .sum::<f64>()
-                .sqrt();
-            (self.separation - 2.0 * self.edges.tolerance) / sine
-        });
-        self.edges.least_from_ends(b).max(self.separation).max(by_angle)
+    /// The crossing's least distance `D`, at every pose of `b` (rotations enclosed by
+    /// `r`), from the ends the argument needs: the running edge's end on the side `σ`
+    /// it runs over the face, and the other edge's end towards which its foot moves
+    /// (both of that edge's ends when the edges' angle is near a right angle).
+    ///
+    /// At least the separation, and from each end at least what the box keeps it to.
+    /// Take the nearer of the two ends: its foot on the other edge's line lies on that
+    /// edge (the other end is farther), so kept apart from that edge it lies its
+    /// distance times `sin θ` from it, to the tolerance, and its distance is at least
+    /// `(separation − 2 tolerance) / sin θ`. So `D` is at least the lesser, over the
+    /// two ends, of that bound for an end kept apart and of the box's bound for the
+    /// other. With both of the other edge's ends (an angle near a right angle) the
+    /// same holds of the nearest of all four.
+    fn reach(&self, r: &IntervalMat, b: &Bounds, sigma: f64) -> f64 {
+        let sine = self
+            .components
+            .iter()
+            .map(|&(n, d)| {
+                let v = value(r, n, d);
+                v.lo.abs().max(v.hi.abs())
+            })
+            .map(|m| m * m)
+            .sum::<f64>()
+            .sqrt();
+        let by_angle = (self.separation - 2.0 * self.edges.tolerance) / sine;
+        let boxed = self.edges.distances_from_ends(b);
+        let bound = |(edge, end): (usize, usize)| {
+            let d = boxed[edge][end];
+            if self.apart[edge][end] { d.max(by_angle) } else { d }
+        };
+        let along = value(r, self.along.0, self.along.1);
+        let (running, other) = if self.runs_fixed { (0, 1) } else { (1, 0) };
+        let end = |positive: bool| usize::from(positive);
+        let least = if along.lo > 0.0 || along.hi < 0.0 {
+            let towards = (along.lo > 0.0) == (sigma > 0.0);
+            bound((running, end(sigma > 0.0))).min(bound((other, end(towards))))
+        } else {
+            [(0, 0), (0, 1), (1, 0), (1, 1)]
+                .map(bound)
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+        };
+        least.max(self.separation)
     }
 
     /// Whether at every pose of `b` (rotations enclosed by `r`) the edge runs over the
@@ -109,7 +137,7 @@ impl Dip {
     ///
     /// It runs over the face once `|e · w|` is at least four times the tolerance over
     /// `D` ([`Dip::reach`]): the edge is then twice the tolerance past `x` within `D /
-    /// 2` of the crossing, and so at least that far from `x`'s ends.
+    /// 2` of the crossing, and so at least that far from `x`'s end there.
     pub fn excludes(&self, r: &IntervalMat, b: &Bounds) -> bool {
         let side = value(r, self.side.0, self.side.1).meet(self.known[0]);
         let rise = value(r, self.rise.0, self.rise.1).meet(self.known[1]);
@@ -118,7 +146,14 @@ impl Dip {
             // together.
             return true;
         }
-        let reach = self.reach(r, b);
+        let sigma = if side.lo > 0.0 {
+            1.0
+        } else if side.hi < 0.0 {
+            -1.0
+        } else {
+            return false;
+        };
+        let reach = self.reach(r, b, sigma);
         let least_side = 4.0 * self.edges.tolerance / reach;
         // Rising by less than `flat`, both ends of the edge lie within the loose
         // reading's tolerance of the plane, and the edge lies in the face where it runs
@@ -129,7 +164,12 @@ impl Dip {
         } else {
             -ROUND_OFF
         };
-        (side.lo >= least_side && rise.hi < least_rise) || (side.hi <= -least_side && rise.lo > -least_rise)
+        let (side, rise) = if sigma > 0.0 {
+            (side, rise)
+        } else {
+            (side.neg(), rise.neg())
+        };
+        side.lo >= least_side && rise.hi < least_rise
     }
 }
 
@@ -139,14 +179,14 @@ const FLAT_REACH: f64 = 8.0;
 
 impl Problem<'_> {
     /// The dips of a crossing `pc` (fixed edge `e`, moving edge `x`) of `target`, both
-    /// ways; `ends_apart` when no contact of the target implies an end of either edge
-    /// on the other.
+    /// ways; `apart` tells, per end of either edge, whether no contact of the target
+    /// implies it on the other edge.
     pub(super) fn dips(
         &self,
         target: &[PrincipalContact],
         pc: &PrincipalContact,
         (e, x): (EdgeId, EdgeId),
-        ends_apart: bool,
+        apart: [[bool; 2]; 2],
     ) -> Vec<Dip> {
         let (fixed, moving) = (self.fixed, self.moving);
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
@@ -157,14 +197,17 @@ impl Problem<'_> {
             let [p, q] = part.edge_points(edge);
             p.distance(q)
         };
-        let dip = |side, rise, running: f64| Dip {
+        let dip = |side, rise, running: f64, runs_fixed: bool| Dip {
             side,
             rise,
+            along: (de, dx),
+            runs_fixed,
             flat: loose / running,
             edges: self.edge_pair(e, x),
             separation: self.separation(),
             // (d_e × R d_x)_k = (e_k × d_e) · (R d_x).
-            components: ends_apart.then(|| DVec3::AXES.map(|axis| (axis.cross(de), dx))),
+            components: DVec3::AXES.map(|axis| (axis.cross(de), dx)),
+            apart,
             known: [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 2],
         };
         // Whether another contact pairs an element whose closure holds `edge` (on
@@ -183,13 +226,18 @@ impl Problem<'_> {
         // The fixed edge over the moving edge's faces: e · R w and e · R n.
         for (&g, w) in moving.edge(x).faces.iter().zip(moving.edge_wedge(x)) {
             if wide_at(moving, g, x) && !listed(true, e, g) {
-                dips.push(dip((de, w), (de, moving.face(g).normal), length(fixed, e)));
+                dips.push(dip((de, w), (de, moving.face(g).normal), length(fixed, e), true));
             }
         }
         // The moving edge over the fixed edge's faces: u · R x and n · R x.
         for (&f, u) in fixed.edge(e).faces.iter().zip(fixed.edge_wedge(e)) {
             if wide_at(fixed, f, e) && !listed(false, x, f) {
-                dips.push(dip((to_g(u), dx), (to_g(fixed.face(f).normal), dx), length(moving, x)));
+                dips.push(dip(
+                    (to_g(u), dx),
+                    (to_g(fixed.face(f).normal), dx),
+                    length(moving, x),
+                    false,
+                ));
             }
         }
         dips

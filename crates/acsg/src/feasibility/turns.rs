@@ -101,16 +101,23 @@ impl Ends {
 impl EdgePair {
     /// The least distance, at any pose of `b`, from the crossing (the contact within the
     /// tolerance) to an end of either edge; zero when nothing is known.
-    pub(super) fn least_from_ends(&self, b: &Bounds) -> f64 {
-        let positions = self.crossing_positions(b);
-        [self.fixed, self.moving]
+    fn least_from_ends(&self, b: &Bounds) -> f64 {
+        self.distances_from_ends(b)
             .iter()
-            .zip(positions)
-            .map(|(edge, range)| {
-                let length = edge[0].distance(edge[1]);
-                range.map_or(0.0, |(lo, hi)| lo.min(length - hi).max(0.0))
-            })
-            .fold(f64::INFINITY, f64::min)
+            .flatten()
+            .fold(f64::INFINITY, |m, &d| m.min(d))
+    }
+
+    /// The least distance, at any pose of `b`, from the crossing to each end of each edge
+    /// (the fixed edge's, then the moving edge's, in their order); zero when nothing is
+    /// known.
+    pub(super) fn distances_from_ends(&self, b: &Bounds) -> [[f64; 2]; 2] {
+        let positions = self.crossing_positions(b);
+        let ends = |edge: &[DVec3; 2], range: Option<(f64, f64)>| {
+            let length = edge[0].distance(edge[1]);
+            range.map_or([0.0; 2], |(lo, hi)| [lo.max(0.0), (length - hi).max(0.0)])
+        };
+        [ends(&self.fixed, positions[0]), ends(&self.moving, positions[1])]
     }
 
     /// Where along each of two crossing edges (from its first end) the crossing lies at
@@ -953,9 +960,12 @@ impl Problem<'_> {
                 let held = |a: ElementId, b: ElementId| implied(self.fixed, self.moving, target, a, b);
                 let fixed_ends = self.fixed.edge(e).vertices.map(ElementId::Vertex);
                 let moving_ends = self.moving.edge(x).vertices.map(ElementId::Vertex);
-                let ends_apart = fixed_ends.iter().all(|&w| !held(w, pc.moving))
-                    && moving_ends.iter().all(|&v| !held(pc.fixed, v))
-                    && fixed_ends.iter().all(|&w| moving_ends.iter().all(|&v| !held(w, v)));
+                // Per end (the fixed edge's, then the moving edge's): kept apart.
+                let apart = [
+                    fixed_ends.map(|w| !held(w, pc.moving) && moving_ends.iter().all(|&v| !held(w, v))),
+                    moving_ends.map(|v| !held(pc.fixed, v) && fixed_ends.iter().all(|&w| !held(w, v))),
+                ];
+                let ends_apart = apart.iter().flatten().all(|&a| a);
                 out.wedges.push(Wedge {
                     on_a: self
                         .fixed
@@ -978,7 +988,7 @@ impl Problem<'_> {
                 });
                 self.add_exits(pc, target, e, x, out);
                 if least > 0.0 {
-                    out.dips.extend(self.dips(target, pc, (e, x), ends_apart));
+                    out.dips.extend(self.dips(target, pc, (e, x), apart));
                 }
                 // And where a face dips past that plane, the other edge runs on into
                 // the face's part: as deep as the part's faces allow over the edge's
