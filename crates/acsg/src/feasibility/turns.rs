@@ -585,13 +585,27 @@ impl Turns {
         self.dips = dips;
     }
 
+    /// Narrows each plain condition to the range all of them keep its value in
+    /// ([`Turns::known_range`]), for the last proofs: an edge lying in a face and a
+    /// vertex's edge rising off another face test one value (the box's bottom on the
+    /// step's edge, its corner on the wall), and two ranges apart rule every box out
+    /// whatever its width, where one at a time they leave open every box that straddles
+    /// the gap.
+    fn meet_turns(&mut self) {
+        let ranges: Vec<Interval> = self.turns.iter().map(|t| self.known_range(t.n, t.d)).collect();
+        for (t, known) in self.turns.iter_mut().zip(ranges) {
+            t.lo = t.lo.max(known.lo);
+            t.hi = t.hi.min(known.hi);
+        }
+    }
+
     /// Whether some rotation in the box may meet every condition (`false` proves that
     /// none does).
     pub fn may_hold(&self, b: &Bounds) -> bool {
         let r = rotation_enclosure(b);
         self.turns.iter().all(|t| {
             let v = value(&r, t.n, t.d);
-            v.hi >= t.lo && v.lo <= t.hi
+            t.lo <= t.hi && v.hi >= t.lo && v.lo <= t.hi
         }) && self.avoid.iter().all(|t| {
             let v = value(&r, t.n, t.d);
             v.lo <= t.lo || v.hi >= t.hi
@@ -796,6 +810,9 @@ impl Problem<'_> {
             self.add_turns(pc, target, least, &mut turns);
         }
         turns.know_values();
+        if least > 0.0 {
+            turns.meet_turns();
+        }
         turns
     }
 
@@ -1519,6 +1536,56 @@ fn diameter(part: &Part, f: FaceId) -> f64 {
 mod tests {
     use super::*;
     use crate::contact::ContactKind as K;
+
+    #[test]
+    fn the_boxs_bottom_on_the_steps_edge_with_its_corner_on_the_wall_asks_one_value_two_ways() {
+        // {f-v f5 v6, e-f e7 f2}: the box's bottom holds the step's back edge e7 (along
+        // x), so `(R z)_x` is within the tolerance of zero; its corner v6 on the wall
+        // (x = 150) needs its upright edge e11 (along the box's z) to rise off the wall,
+        // `(R z)_x` below zero by the margin. One value, two ranges apart: the last
+        // proofs rule the whole bounds out at once, the decisions leave them open.
+        let (block, boxed) = crate::examples::l_block_and_box();
+        let bounds = crate::examples::paper_bounds();
+        let problem = Problem::new(&block, &boxed, bounds, glam::DAffine3::IDENTITY);
+        let contact = crate::testing::contact;
+        let mut target = [contact("f5", "v6", K::FaceVertex), contact("e7", "f2", K::EdgeFace)];
+        target.sort();
+        assert!(!problem.strict_turns(&target).may_hold(&bounds));
+        assert!(problem.turns(&target).may_hold(&bounds));
+        // Independently: the bottom's plane through e7's midpoint (75, 100, 50),
+        // `(R z)_x` set to δ either side of zero (e7's ends then within about the
+        // tolerance of the plane), the corner on the wall next to the step's edge.
+        let (mut read, mut lying) = (0, 0);
+        for rx in [-0.3f64, -0.2, -0.1] {
+            for rz in [-0.03f64, -0.01, -0.003] {
+                for delta in [-5e-9, -3.3e-9, -3e-9, -1e-9, 0.0, 1e-9, 3e-9, 3.3e-9, 5e-9] {
+                    let ry = ((delta - rz.sin() * rx.sin()) / (rz.cos() * rx.cos())).asin();
+                    let rotation = glam::DMat3::from_rotation_z(rz)
+                        * glam::DMat3::from_rotation_y(ry)
+                        * glam::DMat3::from_rotation_x(rx);
+                    let corner = rotation * DVec3::new(150.0, 90.0, 50.0);
+                    let normal = rotation * DVec3::NEG_Z;
+                    for y6 in [99.9, 99.5, 99.0] {
+                        let mut t = DVec3::new(150.0 - corner.x, y6 - corner.y, 0.0);
+                        let on_edge = DVec3::new(75.0, 100.0, 50.0) - corner;
+                        t.z = (normal.dot(on_edge) - normal.x * t.x - normal.y * t.y) / normal.z;
+                        let pose = Pose::from_array([t.x, t.y, t.z, rx, ry, rz]);
+                        let placed = problem.placement(&pose);
+                        let report = problem.scene().evaluate(&placed, crate::tolerance::CONTACT_REL);
+                        if report.contacts == target {
+                            read += 1;
+                        }
+                        if report.contacts.contains(&target[1]) {
+                            lying += 1;
+                        }
+                    }
+                }
+            }
+        }
+        // The bottom holds e7 at many of them, the corner never alone with it: with
+        // `(R z)_x` that small, e11 lies in the wall or crosses its back edge e12.
+        assert!(lying >= 20 && read == 0, "{lying} hold e7, {read} read the target");
+    }
 
     #[test]
     fn a_grazing_crossing_over_a_wall_is_no_witness_and_the_wedge_stands_far_from_parallel() {
