@@ -75,6 +75,8 @@ pub(super) struct Dip {
     along: (DVec3, DVec3),
     /// Whether the running edge is the fixed one (the face is the moving part's).
     runs_fixed: bool,
+    /// The longer edge's length: no crossing lies farther from an end.
+    longest: f64,
     /// The ranges the target's plain conditions keep `side` and `rise` in.
     pub known: [Interval; 2],
 }
@@ -153,6 +155,16 @@ impl Dip {
         } else {
             return false;
         };
+        let (side, rise) = if sigma > 0.0 {
+            (side, rise)
+        } else {
+            (side.neg(), rise.neg())
+        };
+        // Rising clear of any threshold, or too near the other edge's direction for any
+        // reach the edges allow: nothing to work out.
+        if rise.hi >= self.flat || side.lo < 4.0 * self.edges.tolerance / self.longest {
+            return false;
+        }
         let reach = self.reach(r, b, sigma);
         let least_side = 4.0 * self.edges.tolerance / reach;
         // Rising by less than `flat`, both ends of the edge lie within the loose
@@ -163,11 +175,6 @@ impl Dip {
             self.flat
         } else {
             -ROUND_OFF
-        };
-        let (side, rise) = if sigma > 0.0 {
-            (side, rise)
-        } else {
-            (side.neg(), rise.neg())
         };
         side.lo >= least_side && rise.hi < least_rise
     }
@@ -202,6 +209,7 @@ impl Problem<'_> {
             rise,
             along: (de, dx),
             runs_fixed,
+            longest: length(fixed, e).max(length(moving, x)),
             flat: loose / running,
             edges: self.edge_pair(e, x),
             separation: self.separation(),
