@@ -36,7 +36,7 @@ use glam::DVec3;
 
 use super::LOOSE_CONTACT_REL;
 use super::Problem;
-use super::interval::{Interval, IntervalMat, turned_value as value};
+use super::interval::{Interval, IntervalMat, largest_length, turned_value as value};
 use super::turns::EdgePair;
 use crate::contact::PrincipalContact;
 use crate::model::{EdgeId, ElementId, FaceId, Part};
@@ -101,16 +101,7 @@ impl Dip {
     /// other. With both of the other edge's ends (an angle near a right angle) the
     /// same holds of the nearest of all four.
     fn reach(&self, r: &IntervalMat, b: &Bounds, sigma: f64) -> f64 {
-        let sine = self
-            .components
-            .iter()
-            .map(|&(n, d)| {
-                let v = value(r, n, d);
-                v.lo.abs().max(v.hi.abs())
-            })
-            .map(|m| m * m)
-            .sum::<f64>()
-            .sqrt();
+        let sine = largest_length(r, &self.components);
         let by_angle = (self.separation - 2.0 * self.edges.tolerance) / sine;
         let boxed = self.edges.distances_from_ends(b);
         let bound = |(edge, end): (usize, usize)| {

@@ -168,6 +168,21 @@ pub(crate) fn turned_value(r: &IntervalMat, n: glam::DVec3, d: glam::DVec3) -> I
     })
 }
 
+/// The largest length, over the rotations `r` encloses, of the vector whose components
+/// are the values `n · (R d)` of `components`: the sine of two edges' angle, say, from
+/// the components of `e × R x`.
+pub(crate) fn largest_length(r: &IntervalMat, components: &[(glam::DVec3, glam::DVec3); 3]) -> f64 {
+    components
+        .iter()
+        .map(|&(n, d)| {
+            let v = turned_value(r, n, d);
+            v.lo.abs().max(v.hi.abs())
+        })
+        .map(|m| m * m)
+        .sum::<f64>()
+        .sqrt()
+}
+
 /// Enclosure of R = Rz(rz) Ry(ry) Rx(rx) over the bounds' angle box.
 pub(crate) fn rotation_enclosure(bounds: &Bounds) -> IntervalMat {
     let [rx, ry, rz] = axis_rotations(bounds);

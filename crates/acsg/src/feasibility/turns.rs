@@ -14,7 +14,7 @@ use glam::DVec3;
 
 use super::Problem;
 use super::dip::Dip;
-use super::interval::{Interval, IntervalMat, rotation_enclosure, turned_value as value};
+use super::interval::{Interval, IntervalMat, largest_length, rotation_enclosure, turned_value as value};
 use super::pierce::{Crossing, Pierce};
 use super::prover::{face_untouched, implied};
 use crate::contact::{ContactKind, PrincipalContact};
@@ -476,16 +476,7 @@ impl Wedge {
         }
         let s = self.normal.map_or(self.slack, |components| {
             // |n| at most, over the box.
-            let length = components
-                .iter()
-                .map(|&(n, d)| {
-                    let v = value(r, n, d);
-                    v.lo.abs().max(v.hi.abs())
-                })
-                .map(|m| m * m)
-                .sum::<f64>()
-                .sqrt();
-            self.slack * length.min(1.0)
+            self.slack * largest_length(r, &components).min(1.0)
         });
         let verdict = |s: f64| {
             let may = |sign: f64| {
