@@ -36,8 +36,8 @@ use glam::DVec3;
 
 use super::LOOSE_CONTACT_REL;
 use super::Problem;
+use super::edge_pair::EdgePair;
 use super::interval::{Interval, IntervalMat, largest_length, turned_value as value};
-use super::turns::EdgePair;
 use crate::contact::PrincipalContact;
 use crate::model::{EdgeId, ElementId, FaceId, Part};
 use crate::pose::Bounds;

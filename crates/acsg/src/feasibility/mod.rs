@@ -26,6 +26,7 @@
 mod below;
 mod decide;
 mod dip;
+mod edge_pair;
 mod hinge;
 mod interval;
 mod lp;
