@@ -41,10 +41,7 @@ use super::interval::{Interval, IntervalMat, largest_length, turned_value as val
 use crate::contact::PrincipalContact;
 use crate::model::{EdgeId, ElementId, FaceId, Part};
 use crate::pose::Bounds;
-use crate::tolerance::{CONTACT_REL, scaled};
-
-/// Round-off allowed in a value `n · (R d)` of unit vectors.
-const ROUND_OFF: f64 = 1e-12;
+use crate::tolerance::{CONTACT_REL, ROUNDOFF_REL, scaled};
 
 /// A face's corner at an end of the crossing edge narrower than this (radians) leaves
 /// the face out: the face may be too thin next to the edge for the stretch.
@@ -165,7 +162,7 @@ impl Dip {
         let least_rise = if reach >= FLAT_REACH * self.separation {
             self.flat
         } else {
-            -ROUND_OFF
+            -ROUNDOFF_REL
         };
         side.lo >= least_side && rise.hi < least_rise
     }
