@@ -528,8 +528,8 @@ impl Problem<'_> {
     /// with the last proofs' conditions ([`Problem::exclude_settled`], no look-ahead)
     /// and halved where it is widest, rotations weighed as the arc they sweep, the half
     /// holding `toward` (the centre of the box the branch and prune left open) first.
-    /// `None` once `budget` boxes are examined or a box no wider than `floor` stays
-    /// open, its angles trimmed too ([`Problem::trim`]): the branch and prune's
+    /// The box left open once `budget` boxes are examined (the next one) or a box no
+    /// wider than `floor` stays open, its angles trimmed too ([`Problem::trim`]): the branch and prune's
     /// look-ahead weighs the halves' propagation, which near a limit pose of a larger
     /// state keeps splitting translations that the halving leaves whole, while a
     /// rotation slice of a few milliradians would fall to propagation outright.
@@ -541,13 +541,13 @@ impl Problem<'_> {
         budget: usize,
         floor: f64,
         stats: &mut SearchStats,
-    ) -> Option<Proof> {
+    ) -> Result<Proof, Bounds> {
         let mut stack = vec![self.bounds];
         let mut rules = BTreeSet::new();
         let mut examined = 0;
         while let Some(b) = stack.pop() {
             if examined >= budget {
-                return None;
+                return Err(b);
             }
             examined += 1;
             stats.boxes += 1;
@@ -560,8 +560,10 @@ impl Problem<'_> {
                         // At the floor, a last try: the angles cut down to where the
                         // tests leave them open, a thin slab the box's own tests miss.
                         let trimmed = self.trim(target, conditions, &narrowed);
-                        let rule = self.exclude(target, conditions, Mode::All, &trimmed, true).err()?;
-                        rules.insert(rule);
+                        match self.exclude(target, conditions, Mode::All, &trimmed, true) {
+                            Err(rule) => rules.insert(rule),
+                            Ok(_) => return Err(trimmed),
+                        };
                         continue;
                     };
                     // The half holding `toward` is examined first: a box that stays
@@ -573,7 +575,7 @@ impl Problem<'_> {
                 }
             }
         }
-        Some(Proof { rules, boxes: examined })
+        Ok(Proof { rules, boxes: examined })
     }
 
     /// The exclusion tests of a box, run again on the box they narrow while it narrows
@@ -624,18 +626,19 @@ impl Problem<'_> {
     /// every component; without them, over the whole bounds, rotations first, then
     /// every component. Where that fails (the screen included), a proof by halving
     /// alone over the whole bounds ([`Problem::prove_by_halving`]). The proof, or
-    /// `None`.
+    /// the box the halving left open: where the candidate may still hold, for the
+    /// report.
     pub(crate) fn prove_last(
         &self,
         target: &[PrincipalContact],
         open: &Bounds,
         rest: &[Bounds],
         stats: &mut SearchStats,
-    ) -> Option<Proof> {
+    ) -> Result<Proof, Bounds> {
         let conditions = match self.last_conditions(target) {
             Ok(conditions) => conditions,
             Err(rule) => {
-                return Some(Proof::outright(rule));
+                return Ok(Proof::outright(rule));
             }
         };
         let proved = |from: &[Bounds], phases: &[(Mode, usize)], stats: &mut SearchStats| {
@@ -674,7 +677,7 @@ impl Problem<'_> {
             let all = rotations + (PROOF_BUDGET + LAST_PROOF_BUDGET) * effort;
             proved(&[self.bounds], &[(Mode::Rotations, rotations), (Mode::All, all)], stats)
         };
-        standard(stats).or_else(|| {
+        standard(stats).ok_or(()).or_else(|()| {
             let floor = scaled(HALVING_FLOOR_REL, self.scale);
             self.prove_by_halving(
                 target,
@@ -1374,7 +1377,9 @@ mod tests {
         };
         let floor = scaled(HALVING_FLOOR_REL, problem.scale);
         let toward = problem.bounds.center();
-        problem.prove_by_halving(target, &conditions, toward, budget, floor, &mut SearchStats::default())
+        problem
+            .prove_by_halving(target, &conditions, toward, budget, floor, &mut SearchStats::default())
+            .ok()
     }
 
     #[test]
@@ -1545,6 +1550,25 @@ mod tests {
             let state = problem.verify(&witness).expect("a clean witness");
             assert!(target.iter().all(|pc| state.contains(pc)), "{state:?}");
             assert!(halving(problem, &mut target, HALVING_BUDGET).is_none());
+            // The box it stops at, which the report lists: inside the bounds, small,
+            // and not ruled out by the last proofs' own test run on it again.
+            let conditions = problem.last_conditions(&target).expect("conditions");
+            let floor = scaled(HALVING_FLOOR_REL, problem.scale);
+            let open = problem
+                .prove_by_halving(
+                    &target,
+                    &conditions,
+                    problem.bounds.center(),
+                    HALVING_BUDGET,
+                    floor,
+                    &mut SearchStats::default(),
+                )
+                .expect_err("left open");
+            let (lo, hi) = (open.min.to_array(), open.max.to_array());
+            let (blo, bhi) = (problem.bounds.min.to_array(), problem.bounds.max.to_array());
+            assert!((0..6).all(|k| blo[k] <= lo[k] && hi[k] <= bhi[k]), "{open:?}");
+            assert!((0..3).all(|k| hi[k] - lo[k] <= floor), "{open:?}");
+            assert_eq!(problem.last_exclusion(&target, &open), None);
         });
     }
 
@@ -1577,7 +1601,7 @@ mod tests {
         // It left more boxes open than the last proofs go on from (over 500), so it
         // hands on none, and the last proofs start again from the whole bounds.
         assert!(decided.rest.is_empty(), "{} boxes handed on", decided.rest.len());
-        assert!(problem.prove_last(&target, &open, &decided.rest, &mut stats).is_some());
+        assert!(problem.prove_last(&target, &open, &decided.rest, &mut stats).is_ok());
         // Handed boxes that cover the poses left open (here the two halves of the
         // bounds), they go on from those.
         let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
@@ -1589,6 +1613,6 @@ mod tests {
             Bounds::try_new(lo, upper).unwrap(),
             Bounds::try_new(middle, hi).unwrap(),
         ];
-        assert!(problem.prove_last(&target, &open, &halves, &mut stats).is_some());
+        assert!(problem.prove_last(&target, &open, &halves, &mut stats).is_ok());
     }
 }

@@ -1527,12 +1527,12 @@ mod tests {
         assert!(
             problem
                 .prove_last(&target, &tilted_in, &[tilted_in], &mut stats)
-                .is_some()
+                .is_ok()
         );
         assert!(
             problem
                 .prove_last(&target, &tilted_in, &[tilted_in, around], &mut stats)
-                .is_none()
+                .is_err()
         );
     }
 

@@ -56,7 +56,9 @@ pub struct Document {
 pub struct UndecidedRecord {
     /// Its principal contacts.
     pub contacts: Vec<ContactRecord>,
-    /// The smallest box of poses its proof left open.
+    /// A box of poses the proofs left open, where the candidate may still hold: the
+    /// one the last proof stopped at (the smallest the decision left open when no
+    /// last proof ran).
     pub open: BoundsRecord,
 }
 

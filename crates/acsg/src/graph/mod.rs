@@ -158,8 +158,9 @@ pub struct Stats {
 pub struct Undecided {
     /// Its principal contacts, sorted.
     pub contacts: Vec<PrincipalContact>,
-    /// The smallest box of poses the proof left open (the whole bounds when the
-    /// strategy tries no proof, as the paper's does not).
+    /// A box of poses the proofs left open, where the candidate may still hold: the one
+    /// the last proof stopped at, else the smallest its decision left open (the whole
+    /// bounds when the strategy tries no proof, as the paper's does not).
     pub open: Bounds,
 }
 

@@ -7,7 +7,7 @@
 //! Every state enters through a verified witness: a strategy records a
 //! [`Decided`], whose witnesses the feasibility module has checked.
 
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::Instant;
 
 use super::{Graph, Options, State, Stats, Undecided, neighbours, state_dof};
@@ -286,9 +286,20 @@ impl<'a> Store<'a> {
 
     /// Takes candidates left undecided off the list: the last proofs proved them
     /// infeasible.
-    pub fn proved_last(&mut self, proved: &BTreeSet<Vec<PrincipalContact>>) {
+    /// The others keep the box the last proofs left open (`open`), where the candidate
+    /// may still hold.
+    pub fn proved_last(
+        &mut self,
+        proved: &BTreeSet<Vec<PrincipalContact>>,
+        open: &BTreeMap<Vec<PrincipalContact>, Bounds>,
+    ) {
         let before = self.undecided.len();
         self.undecided.retain(|u| !proved.contains(&u.contacts));
+        for u in &mut self.undecided {
+            if let Some(b) = open.get(&u.contacts) {
+                u.open = *b;
+            }
+        }
         let taken = before - self.undecided.len();
         self.stats.infeasible += taken;
         self.stats.proved_last += taken;

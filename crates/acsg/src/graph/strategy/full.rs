@@ -26,7 +26,7 @@
 //! decided in parallel and merged in a fixed order, so the output does not depend on
 //! the number of threads.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use rayon::prelude::*;
 
@@ -112,21 +112,27 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
 /// their decisions left open by then. In parallel, recorded in a fixed order.
 fn prove_last(store: &mut Store<'_>, problem: &Problem<'_>) {
     let left = store.undecided_to_prove();
-    let mut results: Vec<(bool, SearchStats)> = Vec::with_capacity(left.len());
+    let mut results: Vec<(Result<(), Bounds>, SearchStats)> = Vec::with_capacity(left.len());
     for chunk in left.chunks(BATCH) {
         results.par_extend(chunk.par_iter().map(|(target, open, rest)| {
             let mut stats = SearchStats::default();
-            (problem.prove_last(target, open, rest, &mut stats).is_some(), stats)
+            (problem.prove_last(target, open, rest, &mut stats).map(|_| ()), stats)
         }));
     }
     let mut proved = BTreeSet::new();
-    for ((target, _, _), (infeasible, stats)) in left.into_iter().zip(results) {
+    let mut still_open = BTreeMap::new();
+    for ((target, _, _), (outcome, stats)) in left.into_iter().zip(results) {
         store.stats.boxes += stats.boxes;
-        if infeasible {
-            proved.insert(target);
+        match outcome {
+            Ok(()) => {
+                proved.insert(target);
+            }
+            Err(open) => {
+                still_open.insert(target, open);
+            }
         }
     }
-    store.proved_last(&proved);
+    store.proved_last(&proved, &still_open);
 }
 
 /// Stage 1: every single contact decided (the PPCs, and the contacts that need no PPC
