@@ -31,6 +31,21 @@
 //! `g`'s plane: the loose reading has it lying in `g` where it runs over it, a stretch
 //! longer than twice that tolerance when `D` is at least eight separations. That is no
 //! robust witness either ([`super::witness_flaw`] compares the two readings).
+//!
+//! **Flat**: an edge whose height over `g`'s plane changes by less than that margin
+//! over its whole length, either way, needs neither the crossing's distance from the
+//! ends nor a side. At `O` it is within the tolerance of `x`, so of `g`'s plane, and
+//! so it stays within `0.99e-6 L` of the plane from end to end. One way along it from
+//! `O` runs into `g`'s side of `x` (or it runs along `x`). Followed that way, it either
+//! ends over `g`, its end then nearer `g` than the separation, or leaves `g` over
+//! another of `g`'s edges or corners, passing nearer than the separation; or its end
+//! stays near `x`, or `x`'s end near it. Each is a pair nearer than the separation:
+//! too close, or touching, a contact the target does not hold unless one of its
+//! contacts implies the pair (then the test says nothing), and an end near the other
+//! edge makes the two run together when read over the overlap. So no pose of the box
+//! is a robust witness. The built-in example's slab edge lying in the box's bottom
+//! keeps the box's upright edge in the wall's plane this way, crossing the wall's
+//! back edge 0.2 mm above the step, nearer the ends than a box can tell.
 
 use glam::DVec3;
 
@@ -38,6 +53,7 @@ use super::LOOSE_CONTACT_REL;
 use super::Problem;
 use super::edge_pair::EdgePair;
 use super::interval::{Interval, IntervalMat, largest_length, turned_value as value};
+use super::prover::implied;
 use crate::contact::PrincipalContact;
 use crate::model::{EdgeId, ElementId, FaceId, Part};
 use crate::pose::Bounds;
@@ -76,6 +92,13 @@ pub(super) struct Dip {
     longest: f64,
     /// The ranges the target's plain conditions keep `side` and `rise` in.
     pub known: [Interval; 2],
+    /// Whether the descent test applies: the face is wide at the crossing edge's ends
+    /// and no other contact pairs the running edge with it.
+    descent: bool,
+    /// Whether the flat test applies ([`Dip::excludes`]): no contact of the target
+    /// implies a pair of the running edge (or an end of it) with an element of the
+    /// face's closure off the crossing edge.
+    flat_test: bool,
 }
 
 impl Dip {
@@ -123,7 +146,8 @@ impl Dip {
     /// Whether at every pose of `b` (rotations enclosed by `r`) the edge runs over the
     /// face one way and descends into it that way, or (with the crossing far enough from
     /// the ends for the loose reading's stretch) rises too little to leave the loose
-    /// tolerance: then no pose of the box is a robust witness.
+    /// tolerance, or (flat) leaves it neither way: then no pose of the box is a robust
+    /// witness.
     ///
     /// It runs over the face once `|e · w|` is at least four times the tolerance over
     /// `D` ([`Dip::reach`]): the edge is then twice the tolerance past `x` within `D /
@@ -135,6 +159,14 @@ impl Dip {
             // The plain conditions on these values rule every rotation of the box out
             // together.
             return true;
+        }
+        // Flat: the running edge stays within the loose tolerance of the face's plane
+        // from end to end, whichever way it runs over the face.
+        if self.flat_test && rise.lo > -self.flat && rise.hi < self.flat {
+            return true;
+        }
+        if !self.descent {
+            return false;
         }
         let sigma = if side.lo > 0.0 {
             1.0
@@ -192,7 +224,7 @@ impl Problem<'_> {
             let [p, q] = part.edge_points(edge);
             p.distance(q)
         };
-        let dip = |side, rise, running: f64, runs_fixed: bool| Dip {
+        let dip = |side, rise, running: f64, runs_fixed: bool, (descent, flat_test): (bool, bool)| Dip {
             side,
             rise,
             along: (de, dx),
@@ -205,6 +237,8 @@ impl Problem<'_> {
             components: DVec3::AXES.map(|axis| (axis.cross(de), dx)),
             apart,
             known: [Interval::new(f64::NEG_INFINITY, f64::INFINITY); 2],
+            descent,
+            flat_test,
         };
         // Whether another contact pairs an element whose closure holds `edge` (on
         // `edge`'s part) with the face `face` (on the other part).
@@ -218,26 +252,71 @@ impl Problem<'_> {
                 theirs == ElementId::Face(face) && part.in_closure(mine, ElementId::Edge(edge))
             })
         };
+        // Whether a pair the flat test counts on may touch, a contact of the target
+        // implying it: an end of the running edge `edge` with an element of `face`'s
+        // closure off its crossing edge `crossed`, or the edge itself with one of the
+        // face's other edges or corners (the face itself touches the edge at the
+        // crossing).
+        let held_near = |edge_on_fixed: bool, edge: EdgeId, face: FaceId, crossed: EdgeId| {
+            let (running_part, face_part) = if edge_on_fixed {
+                (fixed, moving)
+            } else {
+                (moving, fixed)
+            };
+            let near: Vec<ElementId> = off_the_edge(face_part, face, crossed).collect();
+            let ends = running_part.edge(edge).vertices.map(ElementId::Vertex);
+            let pairs = ends
+                .into_iter()
+                .flat_map(|end| near.iter().map(move |&a| (end, a)))
+                .chain(
+                    near.iter()
+                        .filter(|a| **a != ElementId::Face(face))
+                        .map(|&a| (ElementId::Edge(edge), a)),
+                );
+            pairs.into_iter().any(|(b, a)| {
+                let (f, m) = if edge_on_fixed { (b, a) } else { (a, b) };
+                implied(fixed, moving, target, f, m)
+            })
+        };
         let mut dips = Vec::new();
         // The fixed edge over the moving edge's faces: e · R w and e · R n.
         for (&g, w) in moving.edge(x).faces.iter().zip(moving.edge_wedge(x)) {
-            if wide_at(moving, g, x) && !listed(true, e, g) {
-                dips.push(dip((de, w), (de, moving.face(g).normal), length(fixed, e), true));
+            let tests = (wide_at(moving, g, x) && !listed(true, e, g), !held_near(true, e, g, x));
+            if tests.0 || tests.1 {
+                dips.push(dip((de, w), (de, moving.face(g).normal), length(fixed, e), true, tests));
             }
         }
         // The moving edge over the fixed edge's faces: u · R x and n · R x.
         for (&f, u) in fixed.edge(e).faces.iter().zip(fixed.edge_wedge(e)) {
-            if wide_at(fixed, f, e) && !listed(false, x, f) {
+            let tests = (wide_at(fixed, f, e) && !listed(false, x, f), !held_near(false, x, f, e));
+            if tests.0 || tests.1 {
                 dips.push(dip(
                     (to_g(u), dx),
                     (to_g(fixed.face(f).normal), dx),
                     length(moving, x),
                     false,
+                    tests,
                 ));
             }
         }
         dips
     }
+}
+
+/// The elements of face `f`'s closure off its edge `x`: the face, its other edges, and
+/// its vertices other than `x`'s ends.
+fn off_the_edge(part: &Part, f: FaceId, x: EdgeId) -> impl Iterator<Item = ElementId> + '_ {
+    let ends = part.edge(x).vertices;
+    let face = part.face(f);
+    let edges = face.loops.iter().flat_map(|l| l.edges.iter()).filter(move |&&y| y != x);
+    let vertices = face
+        .loops
+        .iter()
+        .flat_map(|l| l.vertices.iter())
+        .filter(move |v| !ends.contains(v));
+    std::iter::once(ElementId::Face(f))
+        .chain(edges.map(|&y| ElementId::Edge(y)))
+        .chain(vertices.map(|&v| ElementId::Vertex(v)))
 }
 
 /// Whether both of face `f`'s corners at the ends of its edge `x` open by at least
@@ -366,5 +445,103 @@ mod tests {
         assert!(problem.strict_turns(&target).without_dips().may_hold(&small));
         // The decisions' conditions leave it open: the dips are for the last proofs.
         assert!(problem.turns(&target).may_hold(&small));
+    }
+
+    /// The built-in example's box turned by `rx` and `ry` about x and y and about z so
+    /// that `(R z)_x = 0`: its bottom's plane through the slab's top back edge e7 (y =
+    /// 100, z = 50), its back right edge e11 crossing the wall's back edge e12 (x =
+    /// 150, y = 100) `height` above that edge's foot. e11 then runs in the wall's plane.
+    fn upright_edge_crossing_the_walls_back_edge(rx: f64, ry: f64, height: f64) -> Pose {
+        let rz = rotation_z(rx, ry);
+        let rotation = DMat3::from_rotation_z(rz) * DMat3::from_rotation_y(ry) * DMat3::from_rotation_x(rx);
+        let crossing = DVec3::new(150.0, 100.0, 50.0 + height);
+        // The bottom (local z = 50) through e7: z0 = 50 − n_z height, n = R(−z).
+        let z0 = 50.0 + (rotation * DVec3::Z).z * height;
+        let t = crossing - rotation * DVec3::new(150.0, 90.0, z0);
+        Pose::from_array([t.x, t.y, t.z, rx, ry, rz])
+    }
+
+    /// The turn about z that keeps `(R z)_x = 0` for turns `rx`, `ry` (the smaller one).
+    fn rotation_z(rx: f64, ry: f64) -> f64 {
+        (-rx.cos() * ry.sin() / rx.sin()).atan()
+    }
+
+    #[test]
+    fn an_edge_running_flat_over_the_wall_from_a_crossing_is_never_a_witness() {
+        // The built-in example's undecided {e-f e7 f2, e-e e12 e11}: the slab's edge in
+        // the box's bottom keeps `(R z)_x` at zero, so the box's back right edge e11,
+        // crossing the wall's back edge e12, runs in the wall's plane. Below the crossing
+        // it lies over the wall, within the tolerance of its plane down to its end, the
+        // box's corner v6: that corner touches the wall or lies nearer than the
+        // separation, whatever the angle. The crossing lies 0.2 mm from both edges'
+        // ends, nearer than any box of the halving can tell apart, which left it open.
+        let (block, boxed) = l_block_and_box();
+        let problem = Problem::new(&block, &boxed, paper_bounds(), glam::DAffine3::IDENTITY);
+        let (slab_edge, crossing) = (contact("e7", "f2", K::EdgeFace), contact("e12", "e11", K::EdgeEdge));
+        let mut target = [slab_edge, crossing];
+        target.sort();
+        let near_the_wall = |pc: &crate::contact::PrincipalContact| {
+            let on_box = [
+                contact("f5", "v6", K::FaceVertex).moving,
+                contact("f5", "e11", K::FaceEdge).moving,
+            ];
+            on_box.contains(&pc.moving) && !target.contains(pc)
+        };
+        // Independently, the contact module and the witness check over the family.
+        let mut holding = 0;
+        for rx in [-0.3, -0.2, -0.1284, -0.05] {
+            // Turned about y the same way as about x: the box's right face leans off the
+            // wall towards its front.
+            for ry in [-3e-3, -1e-3, -5.7e-4, -1e-4] {
+                for height in [0.01, 0.05, 0.2, 1.0, 5.0] {
+                    let placement =
+                        upright_edge_crossing_the_walls_back_edge(rx, ry, height).to_affine(&glam::DAffine3::IDENTITY);
+                    let report = problem.scene().evaluate_within(&placement, CONTACT_REL, 1e-3);
+                    assert_eq!(report.penetration, 0.0, "{rx} {ry} {height}");
+                    // The slab's edge in the bottom, as built; the crossing, or the
+                    // edge lying in the wall (which holds the crossing).
+                    let crossed = report.contacts.contains(&crossing)
+                        || report.contacts.contains(&contact("f5", "e11", K::FaceEdge));
+                    if report.contacts.contains(&slab_edge) && crossed {
+                        holding += 1;
+                    }
+                    // The box's corner or edge on the wall, or too near it.
+                    let too_near = report.min_gap.is_some_and(|g| g < problem.separation());
+                    assert!(
+                        report.contacts.iter().any(near_the_wall) || too_near,
+                        "{rx} {ry} {height}: {:?}",
+                        report.contacts
+                    );
+                    let witness =
+                        report.contacts == target && witness_flaw(problem.scene(), &placement, &report).is_none();
+                    assert!(!witness, "a witness at {rx} {ry} {height}");
+                }
+            }
+        }
+        assert!(holding >= 60, "{holding} poses hold the slab's edge and the crossing");
+        // The box the last proofs left open before the flat test: the dips now rule
+        // it out, the decisions' conditions do not.
+        let open = Bounds::try_new(
+            [
+                -0.40458136273766643,
+                4.943493096194722,
+                11.85060332119112,
+                -0.12850933054627955,
+                -0.0005727854040769586,
+                -0.004432556044157393,
+            ],
+            [
+                -0.39303359070997307,
+                5.0,
+                11.867733871516894,
+                -0.12840038006056267,
+                -0.0005621420665911642,
+                -0.004354087380219749,
+            ],
+        )
+        .expect("a box");
+        assert!(!problem.strict_turns(&target).may_hold(&open));
+        assert!(problem.strict_turns(&target).without_dips().may_hold(&open));
+        assert!(problem.turns(&target).may_hold(&open));
     }
 }
