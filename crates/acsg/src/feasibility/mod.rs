@@ -24,6 +24,7 @@
 //! ([`Problem::spread_starts`]) and the sound exclusion tests ([`Problem::exclusion`]).
 
 mod below;
+mod corner_run;
 mod decide;
 mod dip;
 mod edge_pair;

@@ -13,6 +13,7 @@
 use glam::DVec3;
 
 use super::Problem;
+use super::corner_run::CornerRun;
 use super::dip::Dip;
 use super::edge_pair::{CentreMotion, EdgePair};
 use super::interval::{Interval, IntervalMat, largest_length, rotation_enclosure, turned_value as value};
@@ -218,6 +219,8 @@ pub(crate) struct Turns {
     exits: Vec<Exit>,
     /// Crossing edges running over a face and into it (the last proofs only).
     dips: Vec<Dip>,
+    /// Edges held at a corner running flat over a face there (the last proofs only).
+    corner_runs: Vec<CornerRun>,
 }
 
 /// A direction of one part at a vertex held in an edge of the other that must not
@@ -519,6 +522,7 @@ impl Turns {
             })
             && !self.pierce.iter().any(|p| p.certain(&r, b))
             && !self.dips.iter().any(|d| d.excludes(&r, b))
+            && !self.corner_runs.iter().any(|c| c.excludes(&r, b))
             && !self
                 .exits
                 .iter()
@@ -567,6 +571,15 @@ impl Turns {
     pub(crate) fn without_dips(&self) -> Turns {
         Turns {
             dips: Vec::new(),
+            ..self.clone()
+        }
+    }
+
+    /// The same conditions without the runs of edges held at corners ([`CornerRun`]).
+    #[cfg(test)]
+    pub(crate) fn without_corner_runs(&self) -> Turns {
+        Turns {
+            corner_runs: Vec::new(),
             ..self.clone()
         }
     }
@@ -922,6 +935,17 @@ impl Problem<'_> {
             (a, b) => {
                 self.add_lying(pc, target, rise, out);
                 self.add_outside(pc, out);
+                if least > 0.0 {
+                    match (a, b) {
+                        (ElementId::Vertex(v), ElementId::Edge(x)) => {
+                            out.corner_runs.extend(self.corner_runs(target, (v, x), true));
+                        }
+                        (ElementId::Edge(e), ElementId::Vertex(v)) => {
+                            out.corner_runs.extend(self.corner_runs(target, (v, e), false));
+                        }
+                        _ => {}
+                    }
+                }
                 // A vertex in an edge or on a vertex: an edge of one part leaving the
                 // contact along an edge of the other lies along it (e-e-t), unless the
                 // two leave the shared vertex in opposite directions.
