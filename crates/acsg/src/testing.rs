@@ -96,3 +96,14 @@ pub(crate) fn grazing_crossing() -> (Vec<crate::contact::PrincipalContact>, [f64
     ];
     (state, witness)
 }
+
+/// Whether `report`, read at `placement`, is a robust witness of exactly `target`:
+/// the contact module reads that state there and the witness check finds no flaw.
+pub(crate) fn witnesses(
+    scene: &crate::contact::ContactScene<'_>,
+    placement: &glam::DAffine3,
+    report: &crate::contact::ContactReport,
+    target: &[crate::contact::PrincipalContact],
+) -> bool {
+    report.contacts == target && crate::feasibility::witness_flaw(scene, placement, report).is_none()
+}

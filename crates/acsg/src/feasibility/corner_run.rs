@@ -236,7 +236,7 @@ mod tests {
     use glam::{DMat3, DVec3};
 
     use crate::contact::ContactKind as K;
-    use crate::feasibility::{Problem, witness_flaw};
+    use crate::feasibility::Problem;
     use crate::pose::{Bounds, Pose};
     use crate::testing::{contact, fixture, turned_peg_bounds};
     use crate::tolerance::CONTACT_REL;
@@ -294,8 +294,7 @@ mod tests {
                         report.contacts,
                         report.min_gap
                     );
-                    let witness =
-                        report.contacts == target && witness_flaw(problem.scene(), &placement, &report).is_none();
+                    let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
                     assert!(!witness, "a witness at {ry} {rz} {up}");
                 }
             }

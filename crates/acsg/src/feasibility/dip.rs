@@ -419,7 +419,7 @@ mod tests {
     use super::*;
     use crate::contact::ContactKind as K;
     use crate::examples::{l_block_and_box, paper_bounds};
-    use crate::feasibility::{Problem, witness_flaw};
+    use crate::feasibility::Problem;
     use crate::pose::Pose;
     use crate::testing::contact;
     use crate::tolerance::CONTACT_REL;
@@ -482,8 +482,7 @@ mod tests {
                         if side * rise < 0.0 {
                             descending += 1;
                         }
-                        let witness =
-                            report.contacts == target && witness_flaw(problem.scene(), &placement, &report).is_none();
+                        let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
                         assert!(!witness, "a witness at {pose:?}");
                     }
                 }
@@ -577,8 +576,7 @@ mod tests {
                         "{rx} {ry} {height}: {:?}",
                         report.contacts
                     );
-                    let witness =
-                        report.contacts == target && witness_flaw(problem.scene(), &placement, &report).is_none();
+                    let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
                     assert!(!witness, "a witness at {rx} {ry} {height}");
                 }
             }

@@ -74,7 +74,7 @@ mod tests {
 
     use super::*;
     use crate::contact::ContactKind as K;
-    use crate::feasibility::{Problem, Rule, witness_flaw};
+    use crate::feasibility::{Problem, Rule};
     use crate::pose::Pose;
     use crate::testing::{contact, fixture};
     use crate::tolerance::CONTACT_REL;
@@ -128,8 +128,7 @@ mod tests {
                         if report.contacts.contains(&target[0]) {
                             holding += 1;
                         }
-                        let witness =
-                            report.contacts == target && witness_flaw(problem.scene(), &placement, &report).is_none();
+                        let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
                         assert!(!witness, "a witness at rx {rx}, ry {ry}, inset ({a}, {b})");
                     }
                 }

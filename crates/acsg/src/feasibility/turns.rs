@@ -2104,8 +2104,7 @@ mod tests {
                     if report.contacts == target {
                         read += 1;
                     }
-                    let witness = report.contacts == target
-                        && super::super::witness_flaw(problem.scene(), &placement, &report).is_none();
+                    let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
                     assert!(!witness, "a witness at {rx} {ry} {at}");
                 }
             }
