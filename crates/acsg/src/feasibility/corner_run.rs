@@ -182,7 +182,7 @@ impl Problem<'_> {
 /// (in the face's plane) of its two edges at `v`. A loop runs counter-clockwise about
 /// its face's outward normal with the face on its left, so the face lies left of the
 /// outgoing edge `a` (`n × a`) and right of the incoming one, taken from `v` (`a' × n`).
-fn corners_at(part: &Part, v: VertexId) -> Vec<(FaceId, [DVec3; 2])> {
+pub(super) fn corners_at(part: &Part, v: VertexId) -> Vec<(FaceId, [DVec3; 2])> {
     let mut corners = Vec::new();
     for (index, face) in part.faces().iter().enumerate() {
         let n = face.normal;

@@ -58,6 +58,10 @@ pub enum Rule {
     /// its continuation into the face, the vertex's part never rises off the other
     /// face, so the parts penetrate or touch elsewhere; a last proof.
     ReflexCorner,
+    /// A vertex on a face, held on the plane of a face next to it by another contact
+    /// (an edge from it lying there): it lies on their common edge's line, too near the
+    /// face's rim or off it (`feasibility::fold`); a last proof.
+    OnTheFold,
     /// Two contacts hold two points of one edge on a face's plane, and no contact lists
     /// the edge on that face (`feasibility::two_points`): in exact geometry the edge
     /// would lie on the face. The witness check makes the same test, so the decisions
@@ -309,6 +313,9 @@ impl Problem<'_> {
         }
         if super::reflex::corner_on_a_face(self.fixed, self.moving, target) {
             return Err(Rule::ReflexCorner);
+        }
+        if super::fold::on_the_fold(self.fixed, self.moving, target, self.scale) {
+            return Err(Rule::OnTheFold);
         }
         self.conditions_from(
             target,

@@ -28,6 +28,7 @@ mod corner_run;
 mod decide;
 mod dip;
 mod edge_pair;
+mod fold;
 mod hinge;
 mod interval;
 mod lp;
