@@ -23,6 +23,7 @@
 use glam::DVec3;
 
 use super::Problem;
+use super::dip::closure_without;
 use super::edge_pair::CentreMotion;
 use super::interval::{IntervalMat, turned_value as value};
 use super::prover::implied;
@@ -143,7 +144,7 @@ impl Problem<'_> {
         let held = |(a, b): (ElementId, ElementId)| implied(self.fixed, self.moving, target, a, b);
         let mut runs = Vec::new();
         for (f, inward) in corners_at(corner_part, v) {
-            let near = closure_off(corner_part, f, v);
+            let near = closure_without(corner_part, f, &[ElementId::Vertex(v)]);
             let edge_ends = edge_part.edge(x).vertices;
             for (forward, end) in [(true, edge_ends[1]), (false, edge_ends[0])] {
                 // The pairs the test counts on: the edge's end with the face's closure
@@ -209,26 +210,6 @@ pub(super) fn corners_at(part: &Part, v: VertexId) -> Vec<(FaceId, [DVec3; 2])> 
         }
     }
     corners
-}
-
-/// Face `f`'s closure but its corner `v`: the face, its edges, its other vertices.
-fn closure_off(part: &Part, f: FaceId, v: VertexId) -> Vec<ElementId> {
-    let face = part.face(f);
-    let edges = face
-        .loops
-        .iter()
-        .flat_map(|l| l.edges.iter())
-        .map(|&y| ElementId::Edge(y));
-    let vertices = face
-        .loops
-        .iter()
-        .flat_map(|l| l.vertices.iter())
-        .filter(|&&w| w != v)
-        .map(|&w| ElementId::Vertex(w));
-    std::iter::once(ElementId::Face(f))
-        .chain(edges)
-        .chain(vertices)
-        .collect()
 }
 
 #[cfg(test)]

@@ -272,7 +272,13 @@ impl Problem<'_> {
             } else {
                 (moving, fixed)
             };
-            let near: Vec<ElementId> = off_the_edge(face_part, face, crossed).collect();
+            // The face's closure off its crossing edge.
+            let [a, b] = face_part.edge(crossed).vertices;
+            let near = closure_without(
+                face_part,
+                face,
+                &[ElementId::Edge(crossed), ElementId::Vertex(a), ElementId::Vertex(b)],
+            );
             let held = |b: ElementId, a: ElementId| {
                 let (f, m) = if edge_on_fixed { (b, a) } else { (a, b) };
                 implied(fixed, moving, target, f, m).then(|| self.held_pair(f, m))
@@ -368,20 +374,25 @@ impl Problem<'_> {
     }
 }
 
-/// The elements of face `f`'s closure off its edge `x`: the face, its other edges, and
-/// its vertices other than `x`'s ends.
-fn off_the_edge(part: &Part, f: FaceId, x: EdgeId) -> impl Iterator<Item = ElementId> + '_ {
-    let ends = part.edge(x).vertices;
+/// The elements of face `f`'s closure (the face, its edges, its vertices) but those in
+/// `skip`.
+pub(super) fn closure_without(part: &Part, f: FaceId, skip: &[ElementId]) -> Vec<ElementId> {
     let face = part.face(f);
-    let edges = face.loops.iter().flat_map(|l| l.edges.iter()).filter(move |&&y| y != x);
+    let edges = face
+        .loops
+        .iter()
+        .flat_map(|l| l.edges.iter())
+        .map(|&y| ElementId::Edge(y));
     let vertices = face
         .loops
         .iter()
         .flat_map(|l| l.vertices.iter())
-        .filter(move |v| !ends.contains(v));
+        .map(|&v| ElementId::Vertex(v));
     std::iter::once(ElementId::Face(f))
-        .chain(edges.map(|&y| ElementId::Edge(y)))
-        .chain(vertices.map(|&v| ElementId::Vertex(v)))
+        .chain(edges)
+        .chain(vertices)
+        .filter(|e| !skip.contains(e))
+        .collect()
 }
 
 /// Whether both of face `f`'s corners at the ends of its edge `x` open by at least
