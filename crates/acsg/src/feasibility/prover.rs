@@ -24,6 +24,8 @@ use glam::{DAffine3, DVec3};
 mod along;
 mod linearised;
 
+pub(crate) use linearised::TurnedRows;
+
 use super::interval::{Interval, IntervalMat, rotation_enclosure};
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::newell;

@@ -17,7 +17,9 @@ use super::corner_run::CornerRun;
 use super::dip::Dip;
 use super::edge_pair::{CentreMotion, EdgePair};
 use super::interval::{Interval, IntervalMat, largest_length, rotation_enclosure, turned_value as value};
+use super::lp::Row;
 use super::pierce::{Crossing, Pierce};
+use super::prover::TurnedRows;
 use super::prover::{face_untouched, implied};
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::geometry::{Aabb, Segment, segment_segment};
@@ -198,6 +200,12 @@ struct Flush {
 /// (half the separation) to the contact point. Four times their ratio, for safety.
 const LEVER_SLACK: f64 = 4.0 * CONTACT_REL / (0.5 * SEPARATION_REL);
 
+/// The widest box of rotations (sum of the angles' half-widths) in which
+/// [`Turns::jointly_refuted`] linearises: wider, the remainder swamps what it could show.
+const JOINT_TURN: f64 = 0.05;
+/// The most cases (products of either-or conditions) [`Turns::jointly_refuted`] solves.
+const JOINT_CASES: usize = 16;
+
 /// Slabs tried from each end of an angle's range by [`Turns::shave`], at most.
 const SHAVE_STEPS: usize = 24;
 /// The thinnest slab [`Turns::shave`] tries, as a share of what is left.
@@ -221,6 +229,10 @@ pub(crate) struct Turns {
     dips: Vec<Dip>,
     /// Edges held at a corner running flat over a face there (the last proofs only).
     corner_runs: Vec<CornerRun>,
+    /// The last proofs' conditions: a crossing's faces stand off the other edge by the
+    /// normals' margin, and what each condition leaves open is met together
+    /// ([`Turns::jointly_refuted`]).
+    strict: bool,
 }
 
 /// A direction of one part at a vertex held in an edge of the other that must not
@@ -417,20 +429,16 @@ impl Turns {
     /// anyway, so a test of the same value may assume it: interval arithmetic alone
     /// sees two conditions on one value apart, and a box straddling both stays open.
     fn known_range(&self, n: DVec3, d: DVec3) -> Interval {
-        let same = |a: DVec3, b: DVec3| a.distance_squared(b) <= 1e-20;
         let mut known = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
-        if (n.length() - 1.0).abs() > 1e-9 || (d.length() - 1.0).abs() > 1e-9 {
-            return known;
-        }
         // The range of `t`'s interval for this value: as it is, turned over, or none.
         let range = |t: &Turn| {
-            if (same(t.n, n) && same(t.d, d)) || (same(t.n, -n) && same(t.d, -d)) {
-                Some(Interval::new(t.lo, t.hi))
-            } else if (same(t.n, -n) && same(t.d, d)) || (same(t.n, n) && same(t.d, -d)) {
-                Some(Interval::new(-t.hi, -t.lo))
-            } else {
-                None
-            }
+            same_value((t.n, t.d), (n, d)).map(|sign| {
+                if sign > 0.0 {
+                    Interval::new(t.lo, t.hi)
+                } else {
+                    Interval::new(-t.hi, -t.lo)
+                }
+            })
         };
         for t in &self.turns {
             if let Some(r) = range(t) {
@@ -527,6 +535,121 @@ impl Turns {
                 .exits
                 .iter()
                 .any(|x| x.excludes(&r, b) || self.exit_or_sink(x, &r, b))
+            && !(self.strict && self.jointly_refuted(&r, b))
+    }
+
+    /// Whether the plain conditions, the values kept out of a range and the crossings'
+    /// wedges, each met somewhere in the box, are met nowhere together: linearised over
+    /// a thin box of rotations ([`TurnedRows`]), by cases over the either-or ones.
+    ///
+    /// The last proofs ask each wedge for the normals' margin
+    /// ([`super::normals::NORMAL_MARGIN`]), as the strict turns ask the directions
+    /// leaving a face contact: the value `(e × R x) · (R v)` of a face of `x` (in-face
+    /// direction `v`) is `e · (R n)`, the sine of the angle between the edge `e` and
+    /// that face, and `e` runs over the face on the side the wedge's sign says. Below
+    /// the margin it lies within `1e-7 L` of the face over that whole stretch (or dips
+    /// into the face's part): some checker reads it lying in the face. Two crossings
+    /// whose faces lean by one tilt, one asking it positive and one negative, meet only
+    /// where both lie flush: the built-in example's bottom edge across the step's edge
+    /// with an upright edge across the wall's top.
+    fn jointly_refuted(&self, r: &IntervalMat, b: &Bounds) -> bool {
+        let margin = super::normals::NORMAL_MARGIN;
+        // `lo ≤ n · (R d) ≤ hi`, `None` when the box meets it everywhere; `Err` when
+        // nowhere.
+        let open = |n: DVec3, d: DVec3, lo: f64, hi: f64| -> Result<Option<Turn>, ()> {
+            let v = value(r, n, d);
+            if v.hi < lo || v.lo > hi {
+                Err(())
+            } else if v.lo >= lo && v.hi <= hi {
+                Ok(None)
+            } else {
+                Ok(Some(Turn { n, d, lo, hi }))
+            }
+        };
+        let mut always = Vec::new();
+        for t in &self.turns {
+            match open(t.n, t.d, t.lo, t.hi) {
+                Err(()) => return true,
+                Ok(t) => always.extend(t),
+            }
+        }
+        // Each entry: the alternatives, one of which holds (each the conditions it
+        // needs); `false` when none may hold.
+        let mut cases: Vec<Vec<Vec<Turn>>> = Vec::new();
+        let mut add_case = |alternatives: Vec<Result<Vec<Turn>, ()>>| -> bool {
+            let open: Vec<Vec<Turn>> = alternatives.into_iter().filter_map(Result::ok).collect();
+            if open.is_empty() {
+                return false;
+            }
+            if !open.iter().any(Vec::is_empty) {
+                cases.push(open);
+            }
+            true
+        };
+        let inf = f64::INFINITY;
+        for t in &self.avoid {
+            let below = open(t.n, t.d, -inf, t.lo).map(|t| t.into_iter().collect());
+            let above = open(t.n, t.d, t.hi, inf).map(|t| t.into_iter().collect());
+            if !add_case(vec![below, above]) {
+                return true;
+            }
+        }
+        for w in &self.wedges {
+            let side = |sign: f64| -> Result<Vec<Turn>, ()> {
+                let (a, b) = if sign > 0.0 {
+                    ((-inf, -margin), (margin, inf))
+                } else {
+                    ((margin, inf), (-inf, -margin))
+                };
+                let mut conditions = Vec::new();
+                for &(n, d) in &w.on_a {
+                    conditions.extend(open(n, d, a.0, a.1)?);
+                }
+                for &(n, d) in &w.on_b {
+                    conditions.extend(open(n, d, b.0, b.1)?);
+                }
+                Ok(conditions)
+            };
+            if !add_case(vec![side(1.0), side(-1.0)]) {
+                return true;
+            }
+        }
+        let combinations: usize = cases.iter().map(Vec::len).product();
+        if cases.is_empty() && always.len() < 2 || combinations > JOINT_CASES {
+            return false;
+        }
+        let h = b.width().map(|w| 0.5 * w);
+        let forms = (h[3] + h[4] + h[5] <= JOINT_TURN).then(|| TurnedRows::new(b));
+        (0..combinations).all(|mut index| {
+            let mut conditions = always.clone();
+            for alternatives in &cases {
+                conditions.extend_from_slice(&alternatives[index % alternatives.len()]);
+                index /= alternatives.len();
+            }
+            // One value asked two ways (two crossings whose faces lean by one tilt):
+            // the ranges meet exactly, however wide the box.
+            let mut merged: Vec<Turn> = Vec::with_capacity(conditions.len());
+            for c in conditions {
+                match merged
+                    .iter_mut()
+                    .find_map(|m| same_value((m.n, m.d), (c.n, c.d)).map(|sign| (m, sign)))
+                {
+                    Some((m, sign)) => {
+                        let (lo, hi) = if sign > 0.0 { (c.lo, c.hi) } else { (-c.hi, -c.lo) };
+                        m.lo = m.lo.max(lo);
+                        m.hi = m.hi.min(hi);
+                        if m.lo > m.hi {
+                            return true;
+                        }
+                    }
+                    None => merged.push(c),
+                }
+            }
+            forms.as_ref().is_some_and(|forms| {
+                let rows: Vec<Row> = merged.iter().map(|c| forms.row(c.n, c.d, c.lo, c.hi)).collect();
+                forms.refuted(&rows)
+            })
+        })
     }
 
     /// Whether an exit and a ray of the same edge the same way rule the box out
@@ -571,6 +694,15 @@ impl Turns {
     pub(crate) fn without_dips(&self) -> Turns {
         Turns {
             dips: Vec::new(),
+            ..self.clone()
+        }
+    }
+
+    /// The same conditions without the joint test ([`Turns::jointly_refuted`]).
+    #[cfg(test)]
+    pub(crate) fn without_joint(&self) -> Turns {
+        Turns {
+            strict: false,
             ..self.clone()
         }
     }
@@ -715,6 +847,7 @@ impl Problem<'_> {
         turns.know_values();
         if least > 0.0 {
             turns.meet_turns();
+            turns.strict = true;
         }
         turns
     }
@@ -1219,6 +1352,23 @@ impl Problem<'_> {
 /// the longer `length` long, read as collinear at the loose reading's tolerance: each
 /// end then lies within the contact tolerance plus `length` times the sine of the
 /// other's line (0.1% kept for round-off).
+/// Whether `n · (R d)` and `m · (R e)` are one value (`1`) or one the other's negative
+/// (`-1`) whatever `R`, for unit vectors; `None` when neither is certain.
+fn same_value((n, d): (DVec3, DVec3), (m, e): (DVec3, DVec3)) -> Option<f64> {
+    let same = |a: DVec3, b: DVec3| a.distance_squared(b) <= 1e-20;
+    let unit = |v: DVec3| (v.length() - 1.0).abs() <= 1e-9;
+    if ![n, d, m, e].into_iter().all(unit) {
+        return None;
+    }
+    if (same(n, m) && same(d, e)) || (same(n, -m) && same(d, -e)) {
+        Some(1.0)
+    } else if (same(n, -m) && same(d, e)) || (same(n, m) && same(d, -e)) {
+        Some(-1.0)
+    } else {
+        None
+    }
+}
+
 fn collinear_when_loose(scale: f64, length: f64) -> f64 {
     let loose = 0.999 * scaled(super::LOOSE_CONTACT_REL, scale);
     (loose - scaled(CONTACT_REL, scale)) / (length * 3f64.sqrt())
@@ -2071,6 +2221,76 @@ mod tests {
         let n = r * DVec3::X;
         let tx = (n.dot(DVec3::new(65.0, 0.0, 50.0)) - 64.0 - n.z * tz) / n.x;
         Pose::from_array([tx, ty, tz, rx, ry, 0.0])
+    }
+
+    #[test]
+    fn two_crossings_that_lean_one_tilt_both_ways_meet_only_flush_and_are_never_a_witness() {
+        use crate::testing::contact;
+        // The built-in example's {e-e e4 e2, e-e e10 e11}: the box tilted about x, its
+        // bottom front edge e2 across the step's front edge e4 and its upright back edge
+        // e11 across the wall's top edge e10. The step's edge runs under the box's
+        // bottom f2 and rises off it only when `(R z)_x < 0`; the box's edge runs down
+        // the wall f5 and stands off it only when `(R z)_x > 0`. Both at once only
+        // flush, where a checker reads an edge lying in a face: the last proofs left it
+        // undecided, a 4-dimensional sliver no box at the halving floor could split.
+        let (block, boxed) = crate::examples::l_block_and_box();
+        let problem = Problem::new(&block, &boxed, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let mut target = [contact("e4", "e2", K::EdgeEdge), contact("e10", "e11", K::EdgeEdge)];
+        target.sort();
+        // Independently, the contact module and the witness check over poses where both
+        // lines cross (the translation solved for each rotation), on both sides of the
+        // flush tilt `sin ry = −tan rz tan rx`.
+        let (p4, d4) = (DVec3::new(0.0, 0.0, 50.0), DVec3::X);
+        let (q2, d2) = (DVec3::new(50.0, 10.0, 50.0), DVec3::X);
+        let (p10, d10) = (DVec3::new(150.0, 0.0, 150.0), DVec3::Y);
+        let (q11, d11) = (DVec3::new(150.0, 90.0, 50.0), DVec3::Z);
+        let (mut holding, mut flush_read, mut poses) = (0, 0, 0);
+        let lying = [contact("e4", "f2", K::EdgeFace), contact("f5", "e11", K::FaceEdge)];
+        for rx in [0.1f64, 0.2, 0.3] {
+            for rz in [-0.02f64, -0.035, -0.06] {
+                let flush = (-rz.tan() * rx.tan()).asin();
+                for off in [-1e-3, -1e-5, -1e-8, 0.0, 1e-8, 1e-5, 1e-3] {
+                    let ry = flush + off;
+                    let rotation = glam::DMat3::from_rotation_z(rz)
+                        * glam::DMat3::from_rotation_y(ry)
+                        * glam::DMat3::from_rotation_x(rx);
+                    let n1 = d4.cross(rotation * d2);
+                    let n2 = d10.cross(rotation * d11);
+                    // Where along e2 it crosses the step's edge (at y = 0).
+                    for along in [0.3, 0.6, 0.9, 0.99] {
+                        let at = rotation * (q2 + 100.0 * along * d2);
+                        let rows = glam::DMat3::from_cols(n1, n2, DVec3::Y).transpose();
+                        let t = rows.inverse()
+                            * DVec3::new(n1.dot(p4 - rotation * q2), n2.dot(p10 - rotation * q11), -at.y);
+                        let pose = Pose::from_array([t.x, t.y, t.z, rx, ry, rz]);
+                        let placement = pose.to_affine(&glam::DAffine3::IDENTITY);
+                        let report = problem.scene().evaluate(&placement, CONTACT_REL);
+                        poses += 1;
+                        if target.iter().all(|pc| report.contacts.contains(pc)) {
+                            holding += 1;
+                        }
+                        if lying.iter().all(|pc| report.contacts.contains(pc)) {
+                            flush_read += 1;
+                        }
+                        let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
+                        assert!(!witness, "a witness at {pose:?}");
+                    }
+                }
+            }
+        }
+        // Off flush both crossings read, with one edge dipping into the other part;
+        // flush, the step's edge lies in the box's bottom and the box's edge in the wall.
+        assert!(
+            holding >= poses / 2 && flush_read >= 9 * 4,
+            "{holding} of {poses} poses hold both crossings, {flush_read} read both edges lying flush"
+        );
+        // The whole bounds, at once: each wedge's sign fixes the other values' signs
+        // over ±18°, so each asks the one value `(R z)_x` a sign, and they differ. The
+        // conditions one at a time (and the decisions') leave it open.
+        let bounds = crate::examples::paper_bounds();
+        assert!(!problem.strict_turns(&target).may_hold(&bounds));
+        assert!(problem.strict_turns(&target).without_joint().may_hold(&bounds));
+        assert!(problem.turns(&target).may_hold(&bounds));
     }
 
     #[test]

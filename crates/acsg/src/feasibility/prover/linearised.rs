@@ -319,6 +319,49 @@ impl Turn {
     }
 }
 
+/// Rotation-only values `n · (R d)` over a box, as rows of the linear programme
+/// ([`lp`]) in `x = (t, δ)`: linear in the angles off the box's centre, the remainder
+/// moved to the row's bounds, and no part in the translation. Conditions that each hold
+/// somewhere in a thin box of rotations but nowhere together (two crossings asking one
+/// tilt to lean both ways) are refuted together.
+pub(crate) struct TurnedRows {
+    turn: Turn,
+    lo: [f64; VARS],
+    hi: [f64; VARS],
+}
+
+impl TurnedRows {
+    /// The linear forms over `bounds`.
+    pub(crate) fn new(bounds: &Bounds) -> TurnedRows {
+        let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
+        let turn = Turn::new(&lo, &hi);
+        // The programme's box: the translation as it is (no row uses it), the angles
+        // as offsets from the centre.
+        let (mut x_lo, mut x_hi) = (lo, hi);
+        for k in 0..3 {
+            x_lo[k + 3] = -turn.h[k];
+            x_hi[k + 3] = turn.h[k];
+        }
+        TurnedRows {
+            turn,
+            lo: x_lo,
+            hi: x_hi,
+        }
+    }
+
+    /// The row `lo ≤ n · (R d) ≤ hi`.
+    pub(crate) fn row(&self, n: DVec3, d: DVec3, lo: f64, hi: f64) -> Row {
+        let mut form = self.turn.on_moving_point(n, &self.turn.spin(d));
+        form.coef[..3].fill(0.0);
+        form.row(lo, hi, 0.0)
+    }
+
+    /// Whether no rotation of the box satisfies every row, proved.
+    pub(crate) fn refuted(&self, rows: &[Row]) -> bool {
+        lp::solve(rows, &self.lo, &self.hi) == lp::Outcome::Empty
+    }
+}
+
 impl Prover<'_> {
     /// The second-order test of a box whose tilts span at most [`MAX_TURN`] (whatever
     /// its yaw): the box narrowed by propagation over the linearised conditions
