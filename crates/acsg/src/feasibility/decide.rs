@@ -188,7 +188,13 @@ const SCREEN_BUDGET: usize = 64;
 /// effort, once the branch and prune has failed: the built-in example's candidates it
 /// proves take from a few hundred boxes to about 5,000, and most it cannot prove meet
 /// the floor within a few dozen.
-const HALVING_BUDGET: usize = 6144;
+const HALVING_BUDGET: usize = 24576;
+/// Boxes left open at the floor that [`Problem::sliver_rotations`] looks inside, at most.
+const SLIVER_BOXES: usize = 8;
+/// Boxes of rotations it splits inside each, at most.
+const SLIVER_SPLITS: usize = 1024;
+/// Rotations it takes from each, at most.
+const SLIVER_TURNS: usize = 8;
 /// The proof by halving gives up at the first box this narrow (relative to L, rotations
 /// as the arc they sweep) that it cannot exclude, trimmed: the limit poses of larger states that
 /// leave a candidate undecided stay open however small the box.
@@ -303,6 +309,15 @@ impl Problem<'_> {
     /// states no other search finds (the built-in example's bottom edge on the floor
     /// with an upright edge on the wall and the top edges crossing).
     fn last_conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
+        self.last_conditions_with(target, |target| self.strict_turns(target))
+    }
+
+    /// [`Problem::last_conditions`] with the rotation conditions `turns` gives.
+    fn last_conditions_with(
+        &self,
+        target: &[PrincipalContact],
+        turns: impl FnOnce(&[PrincipalContact]) -> Turns,
+    ) -> Result<Conditions, Rule> {
         if !super::normals::normals_compatible(self.fixed, self.moving, target) {
             return Err(Rule::NormalAngles);
         }
@@ -317,11 +332,7 @@ impl Problem<'_> {
         if super::fold::on_the_fold(self.fixed, self.moving, target, self.scale) {
             return Err(Rule::OnTheFold);
         }
-        self.conditions_from(
-            target,
-            |target| self.prover.last_links(target),
-            |target| self.strict_turns(target),
-        )
+        self.conditions_from(target, |target| self.prover.last_links(target), turns)
     }
 
     fn conditions_from(
@@ -549,18 +560,43 @@ impl Problem<'_> {
         floor: f64,
         stats: &mut SearchStats,
     ) -> Result<Proof, Bounds> {
+        let halving = self.halve(target, conditions, toward, budget, floor, 1, stats);
+        match halving.open.first() {
+            Some(open) => Err(*open),
+            None => Ok(Proof {
+                rules: halving.rules,
+                boxes: halving.boxes,
+            }),
+        }
+    }
+
+    /// Halves the bounds, depth first from the half holding `toward`, down to `floor`
+    /// (each box at the floor trimmed and tried once more), within `budget` boxes:
+    /// the rules that excluded boxes, and the boxes left open, at most `most_open`
+    /// (the box it stopped at, when the budget ran out).
+    #[allow(clippy::too_many_arguments)]
+    fn halve(
+        &self,
+        target: &[PrincipalContact],
+        conditions: &Conditions,
+        toward: Pose,
+        budget: usize,
+        floor: f64,
+        most_open: usize,
+        stats: &mut SearchStats,
+    ) -> Halving {
         let mut stack = vec![self.bounds];
-        let mut rules = BTreeSet::new();
-        let mut examined = 0;
+        let mut halving = Halving::default();
         while let Some(b) = stack.pop() {
-            if examined >= budget {
-                return Err(b);
+            if halving.boxes >= budget {
+                halving.open.push(b);
+                break;
             }
-            examined += 1;
+            halving.boxes += 1;
             stats.boxes += 1;
             match self.exclude_settled(target, conditions, &b) {
                 Err(rule) => {
-                    rules.insert(rule);
+                    halving.rules.insert(rule);
                 }
                 Ok(narrowed) => {
                     let Some(k) = self.prover.widest_above(&narrowed, 0..6, floor) else {
@@ -568,9 +604,16 @@ impl Problem<'_> {
                         // tests leave them open, a thin slab the box's own tests miss.
                         let trimmed = self.trim(target, conditions, &narrowed);
                         match self.exclude(target, conditions, Mode::All, &trimmed, true) {
-                            Err(rule) => rules.insert(rule),
-                            Ok(_) => return Err(trimmed),
-                        };
+                            Err(rule) => {
+                                halving.rules.insert(rule);
+                            }
+                            Ok(_) => {
+                                halving.open.push(trimmed);
+                                if halving.open.len() >= most_open {
+                                    break;
+                                }
+                            }
+                        }
                         continue;
                     };
                     // The half holding `toward` is examined first: a box that stays
@@ -582,7 +625,45 @@ impl Problem<'_> {
                 }
             }
         }
-        Ok(Proof { rules, boxes: examined })
+        halving
+    }
+
+    /// Rotations at which `target`, left open by the last proofs, may show as a
+    /// checker reads it, for slices to look there ([`Problem::states_in_slivers`]):
+    /// the bounds halved as the last proofs do, with the rotation conditions read
+    /// tightly ([`Problem::readable_turns`]), and inside each box left open at the
+    /// floor (a few), rotations that meet those conditions exactly. A state may hold
+    /// only on a sliver narrower than the floor, by the grace of the tolerance: the
+    /// turned peg's edge lying in the hole's wall (its tilt within the contact
+    /// tolerance over its length) while its bottom corner's edge rises off the
+    /// chamfer by more than the loose tolerance, one product of two turns small, each
+    /// turn not; no search lands there, and the last proofs (sound, so looser) cannot
+    /// close the boxes next to it.
+    pub(crate) fn sliver_rotations(&self, target: &[PrincipalContact]) -> Vec<[f64; 3]> {
+        let Ok(conditions) = self.last_conditions_with(target, |target| self.readable_turns(target)) else {
+            return Vec::new();
+        };
+        let floor = scaled(HALVING_FLOOR_REL, self.scale);
+        let mut stats = SearchStats::default();
+        let budget = HALVING_BUDGET * self.effort as usize;
+        let halving = self.halve(
+            target,
+            &conditions,
+            self.bounds.center(),
+            budget,
+            floor,
+            SLIVER_BOXES,
+            &mut stats,
+        );
+        let mut rotations: Vec<[f64; 3]> = Vec::new();
+        for open in &halving.open {
+            for r in conditions.turns.rotations_meeting(open, SLIVER_SPLITS, SLIVER_TURNS) {
+                if !rotations.contains(&r) {
+                    rotations.push(r);
+                }
+            }
+        }
+        rotations
     }
 
     /// The exclusion tests of a box, run again on the box they narrow while it narrows
@@ -1318,8 +1399,16 @@ struct Split {
     excluded: Vec<Option<Rule>>,
 }
 
+/// What [`Problem::halve`] found.
+#[derive(Default)]
+struct Halving {
+    rules: BTreeSet<Rule>,
+    boxes: usize,
+    open: Vec<Bounds>,
+}
+
 /// The two halves of a box split across component `k`.
-fn halves(b: &Bounds, k: usize) -> Vec<Bounds> {
+pub(super) fn halves(b: &Bounds, k: usize) -> Vec<Bounds> {
     let (lo, hi) = (b.min.to_array(), b.max.to_array());
     let mid = 0.5 * (lo[k] + hi[k]);
     let (mut upper_lo, mut lower_hi) = (lo, hi);

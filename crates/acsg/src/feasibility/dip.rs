@@ -517,7 +517,13 @@ mod tests {
         )
         .expect("a box");
         assert!(!problem.strict_turns(&target).may_hold(&small));
-        assert!(problem.strict_turns(&target).without_dips().without_joint().may_hold(&small));
+        assert!(
+            problem
+                .strict_turns(&target)
+                .without_dips()
+                .without_joint()
+                .may_hold(&small)
+        );
         // The decisions' conditions leave it open: the dips are for the last proofs.
         assert!(problem.turns(&target).may_hold(&small));
     }
@@ -615,7 +621,13 @@ mod tests {
         )
         .expect("a box");
         assert!(!problem.strict_turns(&target).may_hold(&open));
-        assert!(problem.strict_turns(&target).without_dips().without_joint().may_hold(&open));
+        assert!(
+            problem
+                .strict_turns(&target)
+                .without_dips()
+                .without_joint()
+                .may_hold(&open)
+        );
         assert!(problem.turns(&target).may_hold(&open));
     }
 

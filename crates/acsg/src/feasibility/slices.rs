@@ -145,6 +145,18 @@ impl Problem<'_> {
             .collect()
     }
 
+    /// The states that show at the rotations where each target, left open by the last
+    /// proofs, may hold only on a sliver of the bounds ([`Problem::sliver_rotations`]),
+    /// at translations anywhere in the bounds; in parallel, one entry per target.
+    #[must_use]
+    pub fn states_in_slivers(&self, targets: &[Vec<PrincipalContact>], degenerate: bool) -> Vec<SliceFinds> {
+        let wide = self.sweep(self.bounds());
+        targets
+            .par_iter()
+            .map(|target| self.states_at(&wide, &self.sliver_rotations(target), degenerate))
+            .collect()
+    }
+
     /// [`Problem::states_in_open_box`], with `wide` the sweep over the whole bounds.
     fn open_box_finds(&self, wide: &Sweep, open: &Bounds, target: &[PrincipalContact], degenerate: bool) -> SliceFinds {
         let sweep = self.sweep(open);
@@ -1671,5 +1683,65 @@ mod tests {
         // Arcs on the same great circle, or apart, do not.
         assert!(arcs_cross(x, y, -x, -y).is_none());
         assert!(arcs_cross(x, (x + z).normalize(), y, (y + z).normalize()).is_none());
+    }
+
+    #[test]
+    fn a_state_that_holds_only_by_the_grace_of_the_tolerance_shows_in_a_sliver_slice() {
+        use crate::testing::{contact, fixture};
+        // The square peg turned in the chamfered hole (rx pinned at 0): its bottom
+        // corner v0 on the left chamfer f5 and its front right edge e8 lying in the
+        // hole's front wall f9. With R z = (cos rz sin ry, sin rz sin ry, cos ry), e8
+        // lies in the wall only while sin rz sin ry is within the contact tolerance over
+        // its length (80 mm); the bottom edge e1 from v0 rises off the chamfer only
+        // while -rz is above the loose tolerance over its (28 mm); e8 reaches below the
+        // wall's top only while ry tilts it down past v0's height. Exactly, a product
+        // of two turns vanishes and neither turn does: no pose. Within the tolerance, a
+        // sliver about (ry, rz) = (5e-5, -2e-5), narrower than the halving's floor.
+        let (hole, peg) = (fixture("block_with_chamfered_hole.off"), fixture("peg.off"));
+        let d = std::f64::consts::PI / 180.0;
+        let bounds =
+            Bounds::try_new([-2.0, -2.0, 0.0, 0.0, -2.0 * d, -d], [2.0, 2.0, 45.0, 0.0, 2.0 * d, d]).expect("bounds");
+        let problem = Problem::new(&hole, &peg, bounds, DAffine3::IDENTITY);
+        let mut target = vec![
+            contact("f5", "v0", ContactKind::FaceVertex),
+            contact("f9", "e8", ContactKind::FaceEdge),
+        ];
+        target.sort();
+        // By hand: v0 at x = 35 - inset on the chamfer (x + z = 80), v4 (e8's foot) on
+        // the wall's plane y = 35.
+        let by_hand = |ry: f64, rz: f64, inset: f64| {
+            let rotation = DMat3::from_rotation_z(rz) * DMat3::from_rotation_y(ry);
+            let (v0, v4) = (
+                rotation * DVec3::new(36.0, 36.0, 10.0),
+                rotation * DVec3::new(64.0, 36.0, 10.0),
+            );
+            let x = 35.0 - inset;
+            Pose::from_array([x - v0.x, 35.0 - v4.y, 80.0 - x - v0.z, 0.0, ry, rz])
+        };
+        let witnessed = |pose: Pose| {
+            let placement = pose.to_affine(&DAffine3::IDENTITY);
+            let report = problem.scene().evaluate(&placement, crate::tolerance::CONTACT_REL);
+            crate::testing::witnesses(problem.scene(), &placement, &report, &target)
+        };
+        assert!(witnessed(by_hand(5e-5, -2e-5, 3e-4)));
+        assert!(witnessed(by_hand(3e-5, -3e-5, 5e-4)));
+        // Either turn alone, or the product ten times larger: no witness.
+        for (ry, rz) in [(5e-5, 0.0), (0.0, -2e-5), (5e-5, -2e-4), (5e-4, -2e-5)] {
+            assert!(!witnessed(by_hand(ry, rz, 3e-4)), "{ry} {rz}");
+        }
+        // The last proofs' conditions never exclude a witness; the slices at the sliver's
+        // rotations find the state, each with a verified witness.
+        let x = by_hand(5e-5, -2e-5, 3e-4).to_array();
+        assert_eq!(
+            problem.last_exclusion(&target, &Bounds::try_new(x, x).expect("a point")),
+            None
+        );
+        let finds = problem.states_in_slivers(std::slice::from_ref(&target), false);
+        let (_, pose) = finds[0]
+            .states
+            .iter()
+            .find(|(state, _)| *state == target)
+            .expect("the sliver's state");
+        assert!(witnessed(*pose));
     }
 }

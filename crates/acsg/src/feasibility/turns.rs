@@ -206,6 +206,32 @@ const JOINT_TURN: f64 = 0.05;
 /// The most cases (products of either-or conditions) [`Turns::jointly_refuted`] solves.
 const JOINT_CASES: usize = 16;
 
+/// How tightly the rotation conditions read a target's contacts.
+#[derive(Clone, Copy, Debug)]
+struct Grip {
+    /// The smallest value `n · (R d)` of a direction leaving a contact with a face.
+    least: f64,
+    /// How far an edge or face lying in a face may turn off it: this many contact
+    /// tolerances over its length.
+    tilt_tolerances: f64,
+    /// How far a direction leaving a contact with a face must keep off the face's
+    /// plane: this many separations over its length.
+    flat_separations: f64,
+}
+
+impl Grip {
+    /// The proofs': sound, the last proofs' margin on the directions leaving a contact.
+    const PROOF: Grip = Grip {
+        least: super::normals::NORMAL_MARGIN,
+        tilt_tolerances: 10.0,
+        flat_separations: 0.5,
+    };
+
+    fn with_least(self, least: f64) -> Grip {
+        Grip { least, ..self }
+    }
+}
+
 /// Slabs tried from each end of an angle's range by [`Turns::shave`], at most.
 const SHAVE_STEPS: usize = 24;
 /// The thinnest slab [`Turns::shave`] tries, as a share of what is left.
@@ -652,6 +678,45 @@ impl Turns {
         })
     }
 
+    /// Rotations in `b` (its angles; its translation as it is) at which every
+    /// condition holds, at most `most`, found by splitting the box's angles where
+    /// [`Turns::split`] says (else the widest), pruned where no rotation may meet them,
+    /// each box's central rotation tested on its own, within `budget` boxes. Breadth
+    /// first, so that the rotations spread over where the conditions hold.
+    pub(crate) fn rotations_meeting(&self, b: &Bounds, budget: usize, most: usize) -> Vec<[f64; 3]> {
+        let mut found = Vec::new();
+        let mut queue = std::collections::VecDeque::from([*b]);
+        let mut examined = 0;
+        while let Some(b) = queue.pop_front() {
+            if examined >= budget || found.len() >= most {
+                break;
+            }
+            examined += 1;
+            if !self.may_hold(&b) {
+                continue;
+            }
+            let (mut lo, mut hi) = (b.min.to_array(), b.max.to_array());
+            let centre = b.center().to_array();
+            for k in 3..6 {
+                (lo[k], hi[k]) = (centre[k], centre[k]);
+            }
+            if Bounds::try_new(lo, hi).is_ok_and(|at| self.may_hold(&at)) {
+                found.push([centre[3], centre[4], centre[5]]);
+                continue;
+            }
+            let width = b.width();
+            let Some(k) = self.split(&b).or_else(|| {
+                (3..6)
+                    .filter(|&k| width[k] > 0.0)
+                    .max_by(|&i, &j| width[i].total_cmp(&width[j]))
+            }) else {
+                continue;
+            };
+            queue.extend(super::decide::halves(&b, k));
+        }
+        found
+    }
+
     /// Whether an exit and a ray of the same edge the same way rule the box out
     /// together: the exit every pose whose edge runs less than `exit` over its largest
     /// rate to its end (there it leaves the face within the separation of its plane),
@@ -821,7 +886,7 @@ impl Turns {
 impl Problem<'_> {
     /// The rotation-only conditions of every contact of a target.
     pub(crate) fn turns(&self, target: &[PrincipalContact]) -> Turns {
-        self.turns_with(target, -LEVER_SLACK)
+        self.turns_with(target, Grip::PROOF.with_least(-LEVER_SLACK))
     }
 
     /// [`Problem::turns`] for the last proofs: the parts' directions leaving a contact
@@ -834,29 +899,46 @@ impl Problem<'_> {
     /// `1e-6 L` reads it lying in the face, so no robust witness has it. The decisions
     /// let it dip by [`LEVER_SLACK`].
     pub(crate) fn strict_turns(&self, target: &[PrincipalContact]) -> Turns {
-        self.turns_with(target, super::normals::NORMAL_MARGIN)
+        self.turns_with(target, Grip::PROOF)
     }
 
-    /// The rotation-only conditions, with `least` the smallest value `n · (R d)` of a
-    /// direction leaving a contact with a face.
-    fn turns_with(&self, target: &[PrincipalContact], least: f64) -> Turns {
+    /// [`Problem::strict_turns`] as a checker reads the contacts, to look for witnesses
+    /// rather than to exclude: an edge or face lying in a face turned off it by at
+    /// most half the contact tolerance over its length (not ten times), a direction
+    /// leaving a contact with a face risen off it by one and a half separations over
+    /// its length (not half of one). Not a proof: a rotation outside them may still
+    /// show the target; inside them, the contacts read as the target's.
+    pub(crate) fn readable_turns(&self, target: &[PrincipalContact]) -> Turns {
+        self.turns_with(
+            target,
+            Grip {
+                tilt_tolerances: 0.5,
+                flat_separations: 1.5,
+                ..Grip::PROOF
+            },
+        )
+    }
+
+    /// The rotation-only conditions, as tight as `grip` says.
+    fn turns_with(&self, target: &[PrincipalContact], grip: Grip) -> Turns {
         let mut turns = Turns::default();
         for pc in target {
-            self.add_turns(pc, target, least, &mut turns);
+            self.add_turns(pc, target, grip, &mut turns);
         }
         turns.know_values();
-        if least > 0.0 {
+        if grip.least > 0.0 {
             turns.meet_turns();
             turns.strict = true;
         }
         turns
     }
 
-    fn add_turns(&self, pc: &PrincipalContact, target: &[PrincipalContact], least: f64, out: &mut Turns) {
+    fn add_turns(&self, pc: &PrincipalContact, target: &[PrincipalContact], grip: Grip, out: &mut Turns) {
+        let least = grip.least;
         // A contact holds to the contact tolerance: an edge of length ℓ lies in a face
         // when its ends are that close to the plane, so its direction may be off the
         // plane by (tolerance / ℓ); ten times that, as the prover allows.
-        let tilt = |length: f64| (scaled(10.0 * CONTACT_REL, self.scale) / length).max(MIN_TILT);
+        let tilt = |length: f64| (scaled(grip.tilt_tolerances * CONTACT_REL, self.scale) / length).max(MIN_TILT);
         // Everything in G's frame, where the rotation enclosures are of R.
         let to_g = |d: DVec3| self.prover.fixed_direction(d);
         // Half the separation: a margin no witness can lack.
@@ -872,11 +954,12 @@ impl Problem<'_> {
         // They need not rise: an edge or face may dip past the other face's boundary
         // near the contact, but not by more than [`LEVER_SLACK`] (it would then
         // penetrate within the prover's margin).
+        let flat = grip.flat_separations * self.separation();
         let leaving = |part: &Part, e: ElementId| -> Vec<(DVec3, f64)> {
             match e {
                 ElementId::Vertex(v) => edges_leaving(part, v)
                     .into_iter()
-                    .map(|(d, length)| (d, rise / length))
+                    .map(|(d, length)| (d, flat / length))
                     .collect(),
                 ElementId::Edge(x) => {
                     let [p, q] = part.edge_points(x);
@@ -891,7 +974,7 @@ impl Problem<'_> {
                                 .iter()
                                 .map(|&w| (part.vertex(w).position - p).cross(along).length())
                                 .fold(0.0, f64::max);
-                            (u, rise / reach)
+                            (u, flat / reach)
                         })
                         .collect()
                 }
@@ -2234,7 +2317,12 @@ mod tests {
         // flush, where a checker reads an edge lying in a face: the last proofs left it
         // undecided, a 4-dimensional sliver no box at the halving floor could split.
         let (block, boxed) = crate::examples::l_block_and_box();
-        let problem = Problem::new(&block, &boxed, crate::examples::paper_bounds(), glam::DAffine3::IDENTITY);
+        let problem = Problem::new(
+            &block,
+            &boxed,
+            crate::examples::paper_bounds(),
+            glam::DAffine3::IDENTITY,
+        );
         let mut target = [contact("e4", "e2", K::EdgeEdge), contact("e10", "e11", K::EdgeEdge)];
         target.sort();
         // Independently, the contact module and the witness check over poses where both

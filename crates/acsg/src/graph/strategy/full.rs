@@ -76,42 +76,70 @@ struct Candidate {
 pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn Fn(Progress) + Sync)) {
     decide_singles(store, problem, progress);
     store.end_stage1();
-    // Stage 2: every state grown by every single contact found, until nothing new
-    // appears; then every state searched one contact below, and grown again.
-    let mut grown = Vec::new();
-    let mut retried = BTreeSet::new();
-    let mut swept = BTreeSet::new();
-    let mut sliced = false;
-    let mut seeded = 0;
+    let mut searched = Searched::default();
+    let mut proved_last = BTreeSet::new();
+    let mut slivered = BTreeSet::new();
     loop {
-        grow(store, problem, &mut grown, progress);
-        if descend(store, problem, &mut retried) > 0 {
+        search(store, problem, &mut searched, progress);
+        prove_last(store, problem, &mut proved_last);
+        // What the last proofs leave open may hold on a sliver no search lands on:
+        // slices there; what they find grows, and is decided, again.
+        if sweep_slivers(store, problem, &mut slivered) == 0 {
+            break;
+        }
+    }
+}
+
+/// What the searches have done so far, so that a second round goes on from there.
+#[derive(Default)]
+struct Searched {
+    /// The states grown so far, by index.
+    grown: Vec<usize>,
+    /// The candidates below each state searched again.
+    retried: BTreeSet<(Vec<PrincipalContact>, usize)>,
+    /// The undecided candidates whose open boxes were sliced.
+    swept: BTreeSet<Vec<PrincipalContact>>,
+    /// Whether the wide slice sweep has run.
+    sliced: bool,
+    /// The states whose neighbourhoods were sliced.
+    seeded: usize,
+}
+
+/// Stage 2: every state grown by every single contact found, until nothing new
+/// appears; then every state searched one contact below, and grown again; then the
+/// sweeps, each of which may find more to grow.
+fn search(store: &mut Store<'_>, problem: &Problem<'_>, searched: &mut Searched, progress: &(dyn Fn(Progress) + Sync)) {
+    loop {
+        grow(store, problem, &mut searched.grown, progress);
+        if descend(store, problem, &mut searched.retried) > 0 {
             continue;
         }
         // When the searches settle, the slice sweep: last, so that every state the
         // searches find keeps its witness whatever the sweep finds (the sweep only
         // adds), and so that it counts what they missed.
-        if !std::mem::replace(&mut sliced, true) && sweep_slices(store, problem) > 0 {
+        if !std::mem::replace(&mut searched.sliced, true) && sweep_slices(store, problem) > 0 {
             continue;
         }
         // Near every state found: at a higher effort only (it costs as much again as the
         // rest on parts of many pieces).
-        if store.options().effort >= crate::feasibility::THOROUGH_EFFORT && sweep_near(store, problem, &mut seeded) > 0
+        if store.options().effort >= crate::feasibility::THOROUGH_EFFORT
+            && sweep_near(store, problem, &mut searched.seeded) > 0
         {
             continue;
         }
-        if sweep_undecided(store, problem, &mut swept) == 0 {
+        if sweep_undecided(store, problem, &mut searched.swept) == 0 {
             break;
         }
     }
-    prove_last(store, problem);
 }
 
 /// The candidates still undecided, proved with the strongest conditions
 /// ([`Problem::prove_last`]) once nothing more turns up: the sweeps have read the boxes
 /// their decisions left open by then. In parallel, recorded in a fixed order.
-fn prove_last(store: &mut Store<'_>, problem: &Problem<'_>) {
-    let left = store.undecided_to_prove();
+fn prove_last(store: &mut Store<'_>, problem: &Problem<'_>, proved_last: &mut BTreeSet<Vec<PrincipalContact>>) {
+    let mut left = store.undecided_to_prove();
+    // Each candidate once: one left open stays so until a state of it turns up.
+    left.retain(|(target, _, _)| proved_last.insert(target.clone()));
     let mut results: Vec<(Result<(), Bounds>, SearchStats)> = Vec::with_capacity(left.len());
     for chunk in left.chunks(BATCH) {
         results.par_extend(chunk.par_iter().map(|(target, open, rest)| {
@@ -219,6 +247,26 @@ fn add_sliced(store: &mut Store<'_>, problem: &Problem<'_>, finds: SliceFinds) -
         }
     }
     new
+}
+
+/// Slices at the rotations where the candidates the last proofs left open may hold on
+/// a sliver ([`Problem::states_in_slivers`]), each candidate once (`slivered`). The new
+/// states.
+fn sweep_slivers(
+    store: &mut Store<'_>,
+    problem: &Problem<'_>,
+    slivered: &mut BTreeSet<Vec<PrincipalContact>>,
+) -> usize {
+    let targets: Vec<Vec<PrincipalContact>> = store
+        .still_undecided()
+        .into_iter()
+        .filter(|contacts| slivered.insert(contacts.clone()))
+        .collect();
+    if targets.is_empty() {
+        return 0;
+    }
+    let finds = problem.states_in_slivers(&targets, store.options().degenerate);
+    finds.into_iter().map(|found| add_sliced(store, problem, found)).sum()
 }
 
 /// Slices through the boxes of poses that the decisions of the candidates still
