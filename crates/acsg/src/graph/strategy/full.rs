@@ -21,7 +21,9 @@
 //! onto the alignments their contacts need and turned along them
 //! ([`Problem::states_in_open_box`]); what it finds grows and descends again. Last, the
 //! candidates still undecided are proved once more with stronger conditions
-//! ([`Problem::prove_last`]). A search that lands on a pose
+//! ([`Problem::prove_last`]); those still open are sliced at the rotations where they
+//! may hold on a sliver narrower than the proofs' floor ([`Problem::states_in_slivers`]),
+//! and what that finds grows, descends and is proved again. A search that lands on a pose
 //! showing another state records that state (if new). Candidates of one round are
 //! decided in parallel and merged in a fixed order, so the output does not depend on
 //! the number of threads.
