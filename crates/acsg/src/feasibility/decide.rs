@@ -189,6 +189,10 @@ const SCREEN_BUDGET: usize = 64;
 /// proves take from a few hundred boxes to about 5,000, and most it cannot prove meet
 /// the floor within a few dozen.
 const HALVING_BUDGET: usize = 24576;
+/// Boxes [`Problem::sliver_rotations`] halves, per unit of effort: a search, not a
+/// proof, so a budget that runs out costs only the slivers past it (the turned peg's
+/// takes 33 boxes).
+const SLIVER_HALVING_BUDGET: usize = 2048;
 /// Boxes left open at the floor that [`Problem::sliver_rotations`] looks inside, at most.
 const SLIVER_BOXES: usize = 8;
 /// Boxes of rotations it splits inside each, at most.
@@ -645,7 +649,7 @@ impl Problem<'_> {
         };
         let floor = scaled(HALVING_FLOOR_REL, self.scale);
         let mut stats = SearchStats::default();
-        let budget = HALVING_BUDGET * self.effort as usize;
+        let budget = SLIVER_HALVING_BUDGET * self.effort as usize;
         let halving = self.halve(
             target,
             &conditions,
