@@ -622,7 +622,7 @@ impl Problem<'_> {
                     };
                     // The half holding `toward` is examined first: a box that stays
                     // open is found early where there is one.
-                    let mut split = halves(&narrowed, k);
+                    let mut split = narrowed.halves(k);
                     let t = toward.to_array()[k];
                     split.sort_by_key(|h| h.min.to_array()[k] <= t && t <= h.max.to_array()[k]);
                     stack.extend(split);
@@ -963,7 +963,7 @@ impl Problem<'_> {
             match split {
                 Some(Split { component, excluded }) => {
                     // The halves the look-ahead excluded count as examined here.
-                    for (half, rule) in halves(&narrowed, component).into_iter().zip(excluded) {
+                    for (half, rule) in narrowed.halves(component).into_iter().zip(excluded) {
                         match rule {
                             Some(rule) => {
                                 branching.examined += 1;
@@ -1007,7 +1007,7 @@ impl Problem<'_> {
             let mut excluded = 0;
             let mut left = 0.0;
             let mut by = Vec::new();
-            for half in halves(b, k) {
+            for half in b.halves(k) {
                 let verdict = self.exclude(target, links, mode, &half, false);
                 by.push(verdict.as_ref().err().copied());
                 match verdict {
@@ -1397,7 +1397,7 @@ fn clip_outside(
 }
 
 /// Where the look-ahead splits a box, and the rule that excluded each half (in the
-/// order of [`halves`]; none for a half that stays open).
+/// order of [`Bounds::halves`]; none for a half that stays open).
 struct Split {
     component: usize,
     excluded: Vec<Option<Rule>>,
@@ -1409,19 +1409,6 @@ struct Halving {
     rules: BTreeSet<Rule>,
     boxes: usize,
     open: Vec<Bounds>,
-}
-
-/// The two halves of a box split across component `k`.
-pub(super) fn halves(b: &Bounds, k: usize) -> Vec<Bounds> {
-    let (lo, hi) = (b.min.to_array(), b.max.to_array());
-    let mid = 0.5 * (lo[k] + hi[k]);
-    let (mut upper_lo, mut lower_hi) = (lo, hi);
-    upper_lo[k] = mid;
-    lower_hi[k] = mid;
-    [(upper_lo, hi), (lo, lower_hi)]
-        .into_iter()
-        .filter_map(|(l, h)| Bounds::try_new(l, h).ok())
-        .collect()
 }
 
 impl Branching {

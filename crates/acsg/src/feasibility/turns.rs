@@ -711,7 +711,7 @@ impl Turns {
             }) else {
                 continue;
             };
-            queue.extend(super::decide::halves(&b, k));
+            queue.extend(b.halves(k));
         }
         found
     }

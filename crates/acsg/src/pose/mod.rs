@@ -562,6 +562,21 @@ impl Bounds {
         Pose::from_array(std::array::from_fn(|i| 0.5 * lo[i] + 0.5 * hi[i]))
     }
 
+    /// The two halves of the box cut across component `k` (`0..6`, as
+    /// [`Pose::to_array`] orders them) at its middle: upper first.
+    #[must_use]
+    pub(crate) fn halves(&self, k: usize) -> Vec<Bounds> {
+        let (lo, hi) = (self.min.to_array(), self.max.to_array());
+        let mid = 0.5 * (lo[k] + hi[k]);
+        let (mut upper_lo, mut lower_hi) = (lo, hi);
+        upper_lo[k] = mid;
+        lower_hi[k] = mid;
+        [(upper_lo, hi), (lo, lower_hi)]
+            .into_iter()
+            .filter_map(|(l, h)| Bounds::try_new(l, h).ok())
+            .collect()
+    }
+
     /// The widths `max - min` of the six intervals (angles in radians).
     #[must_use]
     pub fn width(&self) -> [f64; 6] {
