@@ -564,7 +564,12 @@ impl Problem<'_> {
         floor: f64,
         stats: &mut SearchStats,
     ) -> Result<Proof, Bounds> {
-        let halving = self.halve(target, conditions, toward, budget, floor, 1, stats);
+        let depth = Depth {
+            budget,
+            floor,
+            most_open: 1,
+        };
+        let halving = self.halve(target, conditions, toward, depth, stats);
         match halving.open.first() {
             Some(open) => Err(*open),
             None => Ok(Proof {
@@ -574,21 +579,23 @@ impl Problem<'_> {
         }
     }
 
-    /// Halves the bounds, depth first from the half holding `toward`, down to `floor`
-    /// (each box at the floor trimmed and tried once more), within `budget` boxes:
-    /// the rules that excluded boxes, and the boxes left open, at most `most_open`
-    /// (the box it stopped at, when the budget ran out).
-    #[allow(clippy::too_many_arguments)]
+    /// Halves the bounds, depth first from the half holding `toward`, as far as `depth`
+    /// goes (each box at its floor trimmed and tried once more): the rules that
+    /// excluded boxes, and the boxes left open (the box it stopped at, when the budget
+    /// ran out).
     fn halve(
         &self,
         target: &[PrincipalContact],
         conditions: &Conditions,
         toward: Pose,
-        budget: usize,
-        floor: f64,
-        most_open: usize,
+        depth: Depth,
         stats: &mut SearchStats,
     ) -> Halving {
+        let Depth {
+            budget,
+            floor,
+            most_open,
+        } = depth;
         let mut stack = vec![self.bounds];
         let mut halving = Halving::default();
         while let Some(b) = stack.pop() {
@@ -649,16 +656,12 @@ impl Problem<'_> {
         };
         let floor = scaled(HALVING_FLOOR_REL, self.scale);
         let mut stats = SearchStats::default();
-        let budget = SLIVER_HALVING_BUDGET * self.effort as usize;
-        let halving = self.halve(
-            target,
-            &conditions,
-            self.bounds.center(),
-            budget,
+        let depth = Depth {
+            budget: SLIVER_HALVING_BUDGET * self.effort as usize,
             floor,
-            SLIVER_BOXES,
-            &mut stats,
-        );
+            most_open: SLIVER_BOXES,
+        };
+        let halving = self.halve(target, &conditions, self.bounds.center(), depth, &mut stats);
         let mut rotations: Vec<[f64; 3]> = Vec::new();
         for open in &halving.open {
             for r in conditions.turns.rotations_meeting(open, SLIVER_SPLITS, SLIVER_TURNS) {
@@ -1401,6 +1404,15 @@ fn clip_outside(
 struct Split {
     component: usize,
     excluded: Vec<Option<Rule>>,
+}
+
+/// How far [`Problem::halve`] goes: at most `budget` boxes, none split below `floor`,
+/// stopping at the `most_open`-th box left open.
+#[derive(Clone, Copy)]
+struct Depth {
+    budget: usize,
+    floor: f64,
+    most_open: usize,
 }
 
 /// What [`Problem::halve`] found.
