@@ -168,6 +168,8 @@ impl Decided {
 }
 
 /// Boxes examined before the first optimisation: cheap proofs come first.
+const QUICK_PRUNE_BUDGET: usize = 32;
+/// Boxes examined by the cheap proofs in all, before the searches inside boxes.
 const PRUNE_BUDGET: usize = 256;
 /// Boxes of rotations examined while searching inside them, per unit of effort.
 const SEARCH_BUDGET: usize = 256;
@@ -834,17 +836,14 @@ impl Problem<'_> {
         let links = &conditions;
         let mut branching = Branching::new(&[*bounds]);
         // Cheap proofs first, split in rotation only: given the rotation, the contacts
-        // are linear in the translation, which propagation narrows directly.
-        if let Some(decision) = self.branch(
-            target,
-            links,
-            Mode::Rotations,
-            &mut branching,
-            PRUNE_BUDGET,
-            None,
-            others,
-            stats,
-        ) {
+        // are linear in the translation, which propagation narrows directly. A few
+        // boxes before the starts (nearly every candidate these proofs rule out falls in
+        // one), the rest after them: a candidate that holds is mostly witnessed by a
+        // start, and the boxes would all be spent on it in vain.
+        let prune = |budget: usize, branching: &mut Branching, others: &mut Vec<_>, stats: &mut SearchStats| {
+            self.branch(target, links, Mode::Rotations, branching, budget, None, others, stats)
+        };
+        if let Some(decision) = prune(QUICK_PRUNE_BUDGET, &mut branching, others, stats) {
             return decision;
         }
         // The warm starts and the constructive starts.
@@ -861,6 +860,9 @@ impl Problem<'_> {
             if let Some(pose) = self.search_from(target, start, bounds, others, stats) {
                 return Decision::Witnessed(pose);
             }
+        }
+        if let Some(decision) = prune(PRUNE_BUDGET, &mut branching, others, stats) {
+            return decision;
         }
         // Point contacts that pin the translation to a line: a search over the rotation.
         if let Some(pose) = self.slide_search(target, bounds, true, others) {
