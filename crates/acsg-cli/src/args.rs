@@ -81,7 +81,7 @@ pub(crate) enum Command {
     /// Generate the graph described by a task file (TOML: `fixed`, `moving`, an
     /// optional `units` (mm, cm, m, in), a `[bounds]` table with x, y, z, rx, ry, rz as
     /// [min, max] in those units and degrees, an optional `[options]` table with
-    /// degenerate, threads, effort, assembled).
+    /// degenerate, threads, effort, strategy, work_limit, assembled).
     Run {
         /// The task file.
         task: PathBuf,
@@ -230,6 +230,12 @@ pub(crate) struct RunFlags {
     /// graph is never complete).
     #[arg(long, value_name = "NAME", value_parser = parse_strategy)]
     pub(crate) strategy: Option<Strategy>,
+    /// Stop searching and proving once this much work is done: boxes of poses examined,
+    /// a local optimisation counting as 50. The candidates met after that are reported
+    /// undecided and the graph is not complete; the output still does not depend on
+    /// the thread count. For parts too large to wait for (no limit by default).
+    #[arg(long, value_name = "BOXES", value_parser = clap::value_parser!(u64).range(1..))]
+    pub(crate) work_limit: Option<u64>,
     /// Write zeros for the stage times, so that runs give identical bytes.
     #[arg(long)]
     pub(crate) no_timings: bool,

@@ -158,6 +158,7 @@ fn batch_task(task: &Path, output: &Path, flags: &BatchFlags) -> anyhow::Result<
         threads: flags.threads,
         effort: None,
         strategy: None,
+        work_limit: None,
         no_timings: flags.no_timings,
         quiet: true,
     };
@@ -189,6 +190,7 @@ fn holds_graph_of(output: &Path, job: &Task) -> bool {
         && close(&file.bounds.max, &job.bounds.max.to_array())
         && file.options.degenerate == job.options.degenerate
         && file.options.strategy == job.options.strategy
+        && file.options.work_limit == job.options.work_limit
         && close(file.assembled.as_flattened(), g.as_flattened())
 }
 

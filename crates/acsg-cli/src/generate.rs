@@ -74,7 +74,7 @@ pub(crate) fn generate_and_write(
 }
 
 /// The flags of a run that change its options (`--degenerate`, `--threads`,
-/// `--effort`), checked.
+/// `--effort`, `--strategy`, `--work-limit`), checked.
 fn apply_flags(options: &mut Options, flags: &RunFlags) -> anyhow::Result<()> {
     options.degenerate |= flags.degenerate;
     if let Some(threads) = flags.threads {
@@ -86,6 +86,9 @@ fn apply_flags(options: &mut Options, flags: &RunFlags) -> anyhow::Result<()> {
     }
     if let Some(strategy) = flags.strategy {
         options.strategy = strategy;
+    }
+    if let Some(limit) = flags.work_limit {
+        options.work_limit = Some(limit);
     }
     Ok(())
 }

@@ -161,6 +161,13 @@ fn write_outcome(out: &mut String, graph: &Graph) {
                 "yes: each of the {} candidates met was witnessed ({}) or proved infeasible ({})",
                 s.candidates, s.witnessed, s.infeasible
             )
+        } else if s.work_limit_reached {
+            format!(
+                "NO: the work limit was reached; {} of {} candidates undecided (the ones met after it were not \
+                 searched, and the sweeps and last proofs did not run: the graph may lack these states and \
+                 states beyond them; a higher --work-limit, or none, goes further)",
+                s.undecided, s.candidates
+            )
         } else {
             format!(
                 "NO: {} of {} candidates undecided (neither witnessed nor proved infeasible; the graph may lack \

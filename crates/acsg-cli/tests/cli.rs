@@ -1320,3 +1320,73 @@ fn the_papers_algorithm_is_a_strategy_of_generate_and_task_files() {
         .code(1)
         .stderr(contains("bad.toml").and(contains("fastest")));
 }
+
+/// `--work-limit` cuts a run short and says so: in the summary, in the JSON (the limit
+/// under `options`, `work_limit_reached` in the stats, `complete` false, the candidates
+/// left undecided listed); a task file may set it; 0 or a non-number is a usage error.
+#[test]
+fn a_work_limit_cuts_the_run_short_and_the_outputs_say_so() {
+    let generate = |limit: Option<&str>| {
+        let mut command = acsg();
+        command
+            .arg("generate")
+            .arg(fixture("slab.off"))
+            .arg(fixture("cube.off"))
+            .args([
+                "--bounds",
+                "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180",
+                "--no-timings",
+            ]);
+        if let Some(limit) = limit {
+            command.args(["--work-limit", limit]);
+        }
+        let out = command.output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (v, String::from_utf8_lossy(&out.stderr).to_string())
+    };
+    let (cut, summary) = generate(Some("100"));
+    assert_eq!(cut["options"]["work_limit"], 100);
+    assert_eq!(cut["stats"]["work_limit_reached"], true);
+    assert_eq!(cut["complete"], false);
+    assert!(summary.contains("the work limit was reached"), "{summary}");
+    let (full, full_summary) = generate(None);
+    assert!(full["options"].get("work_limit").is_none(), "no limit is not written");
+    assert!(
+        full["stats"].get("work_limit_reached").is_none(),
+        "written only when reached"
+    );
+    assert_eq!(full["complete"], true);
+    assert!(!full_summary.contains("work limit"));
+    // A limit far above what the run needs: the same graph.
+    let (roomy, _) = generate(Some("100000000"));
+    assert_eq!(roomy["states"], full["states"]);
+    assert_eq!(roomy["complete"], true);
+    for bad in ["0", "-5", "lots"] {
+        acsg()
+            .arg("generate")
+            .arg(fixture("slab.off"))
+            .arg(fixture("cube.off"))
+            .args(["--bounds", "z=0:3", &format!("--work-limit={bad}")])
+            .assert()
+            .code(2)
+            .stderr(contains("--work-limit"));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cut.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "fixed = {:?}\nmoving = {:?}\n[bounds]\nx = [-1, 1]\ny = [-1, 1]\nz = [0, 30]\nrx = [-10, 10]\n\
+             ry = [-10, 10]\nrz = [-180, 180]\n[options]\nwork_limit = 100\n",
+            fixture("slab.off").display().to_string(),
+            fixture("cube.off").display().to_string()
+        ),
+    )
+    .unwrap();
+    acsg().arg("run").arg(&path).arg("-q").assert().success();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cut.graph.json")).unwrap()).unwrap();
+    assert_eq!(v["options"]["work_limit"], 100);
+    assert_eq!(v["stats"]["work_limit_reached"], true);
+}

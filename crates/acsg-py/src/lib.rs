@@ -204,10 +204,12 @@ struct Interrupted;
 /// `bounds_min`, `bounds_max`: x, y, z, rx, ry, rz (angles in degrees when `degrees`);
 /// `assembled`: 6 values in the same units, or a 4x4 matrix as 16 values; `progress`:
 /// called as `progress(stage, done, total, states)` between batches of searches;
-/// `strategy`: "full" (the default) or "paper" (the paper's algorithm, a baseline).
+/// `strategy`: "full" (the default) or "paper" (the paper's algorithm, a baseline);
+/// `work_limit`: stop searching and proving after this much work (boxes of poses, a local
+/// optimisation counting as 50), leaving the candidates met after it undecided.
 #[pyfunction]
 #[pyo3(signature = (fixed, moving, bounds_min, bounds_max, degrees=true, degenerate=false, assembled=None,
-                    threads=None, effort=None, progress=None, names=None, strategy=None))]
+                    threads=None, effort=None, progress=None, names=None, strategy=None, work_limit=None))]
 #[allow(clippy::too_many_arguments)]
 fn generate(
     py: Python<'_>,
@@ -223,6 +225,7 @@ fn generate(
     progress: Option<Py<PyAny>>,
     names: Option<(String, String)>,
     strategy: Option<String>,
+    work_limit: Option<u64>,
 ) -> PyResult<String> {
     let bounds = if degrees {
         Bounds::from_degrees(bounds_min, bounds_max)
@@ -249,6 +252,12 @@ fn generate(
         }
         options.effort = effort;
     }
+    if work_limit == Some(0) {
+        return Err(PyValueError::new_err(
+            "invalid work_limit: 0 (give the most work the run may do, in boxes of poses, at least 1; or None for no limit)",
+        ));
+    }
+    options.work_limit = work_limit;
     if let Some(name) = strategy {
         options.strategy = name.parse().map_err(|e: acsg::graph::strategy::UnknownStrategy| {
             PyValueError::new_err(format!("invalid strategy: {e}"))

@@ -20,6 +20,7 @@
 //! threads = 0                    # 0: one per core
 //! effort = 1                     # search and proof budget, a multiple of the default
 //! strategy = "full"              # or "paper": the paper's algorithm, as a baseline
+//! work_limit = 5000000           # stop searching after this much work (no limit if absent)
 //! assembled = [0, 0, 0, 0, 0, 0] # G as x, y, z, rx, ry, rz (degrees)
 //! ```
 
@@ -109,6 +110,8 @@ struct OptionsTable {
     effort: u32,
     #[serde(default)]
     strategy: Strategy,
+    #[serde(default)]
+    work_limit: Option<u64>,
     assembled: Option<Numbers>,
 }
 
@@ -274,6 +277,7 @@ impl Task {
             threads,
             effort: file.options.effort.max(1),
             strategy: file.options.strategy,
+            work_limit: file.options.work_limit,
             ..Options::default()
         };
         if let Some(g) = &file.options.assembled {

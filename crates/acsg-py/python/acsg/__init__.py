@@ -440,6 +440,7 @@ def generate(
     effort: Optional[int] = None,
     units: Optional[str] = None,
     strategy: Optional[str] = None,
+    work_limit: Optional[int] = None,
 ) -> Graph:
     """Generates the contact state graph of a fixed and a moving part within bounds.
 
@@ -463,6 +464,11 @@ def generate(
     :param strategy: ``"full"`` (the default: every candidate decided) or ``"paper"``
         (the paper's algorithm step by step, a baseline that proves nothing
         infeasible), as the CLI's ``--strategy``.
+    :param work_limit: stop searching and proving after this much work (boxes of poses
+        examined, a local optimisation counting as 50), as the CLI's ``--work-limit``:
+        the candidates met after it stay undecided and the graph is not complete
+        (``stats.get("work_limit_reached")`` is then true). ``None`` (the default): no
+        limit.
     :returns: the :class:`Graph`. The GIL is released while it runs; Ctrl-C stops it
         (``KeyboardInterrupt``).
     :raises AcsgError: a part that cannot be read or is not a valid solid.
@@ -486,6 +492,7 @@ def generate(
             effort=effort,
             progress=callback,
             strategy=strategy,
+            work_limit=work_limit,
         )
     finally:
         if bar is not None:
@@ -576,6 +583,8 @@ def _matches(graph: Graph, task: Mapping[str, Any]) -> bool:
         and doc["options"]["degenerate"] == bool(task.get("degenerate", False))
         # The default strategy is not written.
         and doc["options"].get("strategy", "full") == (task.get("strategy") or "full")
+        # Written only when given.
+        and doc["options"].get("work_limit") == task.get("work_limit")
     )
 
 
@@ -588,7 +597,7 @@ def generate_many(
 
     :param tasks: each a dict of :func:`generate`'s arguments (``fixed``, ``moving``,
         ``bounds``, and any of ``degrees``, ``degenerate``, ``assembled``, ``threads``,
-        ``effort``, ``units``, ``strategy``), plus optionally ``output``: a path the graph's JSON is
+        ``effort``, ``units``, ``strategy``, ``work_limit``), plus optionally ``output``: a path the graph's JSON is
         saved to. When that file already holds the graph of the same parts, bounds and
         options (written whole: files are written atomically), it is read instead of
         generated again, so a rerun of an interrupted batch does only what is left.

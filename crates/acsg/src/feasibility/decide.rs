@@ -269,6 +269,38 @@ impl Problem<'_> {
         Decided { decision, others, rest }
     }
 
+    /// The cheap proofs alone, with no search: at most the boxes the decision examines
+    /// before its first search, split in rotation only. Infeasible, or undecided with
+    /// the box they left open; what a candidate met after the run's work limit gets
+    /// ([`crate::graph::Options::work_limit`]), since nearly every candidate those
+    /// proofs rule out falls in the first box.
+    pub(crate) fn screen(&self, target: &[PrincipalContact], stats: &mut SearchStats) -> Decided {
+        let decision = match self.conditions(target) {
+            Err(rule) => Decision::Infeasible(Proof::outright(rule)),
+            Ok(conditions) => {
+                let mut branching = Branching::new(&[self.bounds]);
+                let mut others = Vec::new();
+                let budget = QUICK_PRUNE_BUDGET;
+                self.branch(
+                    target,
+                    &conditions,
+                    Mode::Rotations,
+                    &mut branching,
+                    budget,
+                    None,
+                    &mut others,
+                    stats,
+                )
+                .unwrap_or_else(|| Decision::Undecided(branching.open().unwrap_or(self.bounds)))
+            }
+        };
+        Decided {
+            decision,
+            others: Vec::new(),
+            rest: Vec::new(),
+        }
+    }
+
     /// The rule that proves, on its own, that no pose in `bounds` shows `target` (the
     /// contacts sorted), tried as the decision tries each box: rigid distances, the
     /// rotation conditions, propagation, and the Lipschitz tests. `None` when none

@@ -99,6 +99,10 @@ pub struct OptionsRecord {
     /// (`full`), so that the default's files are as before.
     #[serde(default, skip_serializing_if = "Strategy::is_default")]
     pub strategy: Strategy,
+    /// The work limit of the run ([`Options::work_limit`]), written only when one was
+    /// given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub work_limit: Option<u64>,
 }
 
 /// One state as written.
@@ -156,6 +160,7 @@ impl Document {
             options: OptionsRecord {
                 degenerate: options.degenerate,
                 strategy: graph.strategy,
+                work_limit: options.work_limit,
             },
             states: graph
                 .states

@@ -48,7 +48,20 @@ pub struct Options {
     /// How the candidates are searched: the default, or the paper's algorithm as a
     /// baseline.
     pub strategy: Strategy,
+    /// The most work the default strategy may do, in boxes of poses examined, each
+    /// local optimisation counted as [`SEARCH_WORK`] boxes; `None` (the default): no
+    /// limit. Once reached (checked between batches of candidates, so the output still
+    /// does not depend on the thread count), no candidate is searched or proved any
+    /// more: each one met after that is recorded undecided, the sweeps and the last
+    /// proofs are skipped, and the graph is not complete
+    /// ([`Stats::work_limit_reached`]). For parts so large that a complete run would
+    /// take longer than a user can wait.
+    pub work_limit: Option<u64>,
 }
+
+/// Boxes of poses a local optimisation counts for against [`Options::work_limit`]: on the
+/// fixture pairs one costs about as much time as 20 to 60 boxes.
+pub const SEARCH_WORK: u64 = 50;
 
 impl Default for Options {
     fn default() -> Options {
@@ -58,6 +71,7 @@ impl Default for Options {
             threads: 0,
             effort: 1,
             strategy: Strategy::Full,
+            work_limit: None,
         }
     }
 }
@@ -151,6 +165,11 @@ pub struct Stats {
     pub stage1_seconds: f64,
     /// Seconds in stage 2 (with the neighbour edges).
     pub stage2_seconds: f64,
+    /// Whether the run reached its work limit ([`Options::work_limit`]): the candidates
+    /// met after that were left undecided without a search, the sweeps and the last
+    /// proofs skipped, so the graph is not complete. Written only when true.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub work_limit_reached: bool,
 }
 
 /// A candidate state that was neither witnessed nor proved infeasible.
@@ -183,10 +202,10 @@ pub struct Graph {
 impl Graph {
     /// Whether no state within the bounds is missing: every candidate the search met
     /// was witnessed or proved infeasible, by a strategy that proves
-    /// ([`Strategy::proves`]; the paper's cannot).
+    /// ([`Strategy::proves`]; the paper's cannot), before any work limit was reached.
     #[must_use]
     pub fn is_complete(&self) -> bool {
-        self.undecided.is_empty() && self.strategy.proves()
+        self.undecided.is_empty() && self.strategy.proves() && !self.stats.work_limit_reached
     }
 }
 

@@ -10,11 +10,17 @@
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::time::Instant;
 
-use super::{Graph, Options, State, Stats, Undecided, neighbours, state_dof};
+use super::{Graph, Options, SEARCH_WORK, State, Stats, Undecided, neighbours, state_dof};
 use crate::contact::PrincipalContact;
-use crate::feasibility::{Decided, Decision, Problem};
+use crate::feasibility::{Decided, Decision, Problem, SearchStats};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose};
+
+/// The work a decision did, as [`Options::work_limit`] counts it: its boxes, and
+/// [`SEARCH_WORK`] per local optimisation.
+pub(crate) fn work(stats: &SearchStats) -> u64 {
+    stats.boxes as u64 + SEARCH_WORK * stats.optimisations as u64
+}
 
 /// The graph being built.
 pub(crate) struct Store<'a> {
@@ -82,6 +88,19 @@ impl<'a> Store<'a> {
     /// The options of the run.
     pub fn options(&self) -> &'a Options {
         self.options
+    }
+
+    /// Whether the run has reached its work limit ([`Options::work_limit`]), counting
+    /// the work recorded so far and `pending` more ([`work`]) not recorded yet. Once
+    /// reached, it stays so, and [`Stats::work_limit_reached`] says so.
+    pub fn work_limit_reached(&mut self, pending: u64) -> bool {
+        let Some(limit) = self.options.work_limit else {
+            return false;
+        };
+        let s = &self.stats;
+        let recorded = s.boxes as u64 + SEARCH_WORK * (s.stage1_optimisations + s.stage2_optimisations) as u64;
+        self.stats.work_limit_reached |= recorded + pending >= limit;
+        self.stats.work_limit_reached
     }
 
     /// The states so far; `states()[0]` is free space.

@@ -4,13 +4,15 @@
 //! - `generator`: hand-derived state sets, witnesses re-verified, neighbours, the same
 //!   bytes for any thread count, the same states whatever the file;
 //! - `recall`: recall against the independent rotation-slice oracle;
-//! - `strategies`: the paper's algorithm as a baseline against the default search.
+//! - `strategies`: the paper's algorithm as a baseline against the default search;
+//! - `work_limit`: a run cut short by its work limit.
 
 #[path = "../common/mod.rs"]
 mod common;
 mod generator;
 mod recall;
 mod strategies;
+mod work_limit;
 
 use std::sync::OnceLock;
 

@@ -40,7 +40,7 @@ use crate::feasibility::{
 };
 use crate::graph::Progress;
 use crate::graph::rules;
-use crate::graph::store::Store;
+use crate::graph::store::{Store, work};
 use crate::model::Part;
 use crate::pose::{Bounds, Pose};
 
@@ -83,6 +83,10 @@ pub(super) fn run(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
     let mut slivered = BTreeSet::new();
     loop {
         search(store, problem, &mut searched, progress);
+        if store.work_limit_reached(0) {
+            // The candidates left stay undecided: the graph says it is not complete.
+            break;
+        }
         prove_last(store, problem, &mut proved_last);
         // What the last proofs leave open may hold on a sliver no search lands on:
         // slices there; what they find grows, and is decided, again.
@@ -115,6 +119,9 @@ fn search(store: &mut Store<'_>, problem: &Problem<'_>, searched: &mut Searched,
         grow(store, problem, &mut searched.grown, progress);
         if descend(store, problem, &mut searched.retried) > 0 {
             continue;
+        }
+        if store.work_limit_reached(0) {
+            return;
         }
         // When the searches settle, the slice sweep: last, so that every state the
         // searches find keeps its witness whatever the sweep finds (the sweep only
@@ -172,7 +179,13 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
     store.stats.ppc = singles.iter().filter(|pc| is_primitive(pc)).count();
     store.stats.singles = singles.len();
     let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(singles.len());
+    let mut pending = 0;
     for chunk in singles.chunks(BATCH) {
+        if store.work_limit_reached(pending) {
+            results.extend(screened(problem, chunk.iter().map(std::slice::from_ref).collect()));
+            continue;
+        }
+        let first = results.len();
         results.par_extend(chunk.par_iter().map(|pc| {
             let mut stats = SearchStats::default();
             let starts = Starts {
@@ -183,6 +196,7 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
             };
             (problem.decide(&[*pc], &starts, &mut stats), stats)
         }));
+        pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
         progress(Progress {
             stage: 1,
             done: results.len(),
@@ -190,7 +204,11 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
             states: store.states().len(),
         });
     }
-    let (units, stats) = coupled_units(problem, &singles, &results);
+    let (units, stats) = if store.work_limit_reached(pending) {
+        (Vec::new(), SearchStats::default())
+    } else {
+        coupled_units(problem, &singles, &results)
+    };
     store.stats.stage1_optimisations += stats.optimisations;
     store.stats.boxes += stats.boxes;
     for (pc, (decided, stats)) in singles.iter().zip(results) {
@@ -289,6 +307,18 @@ fn sweep_undecided(store: &mut Store<'_>, problem: &Problem<'_>, swept: &mut BTr
 
 /// A state met or searched for.
 type Met = (Vec<PrincipalContact>, Pose);
+
+/// The outcome recorded for a candidate met once the work limit is reached: the cheap
+/// proofs alone ([`Problem::screen`]), in parallel.
+fn screened(problem: &Problem<'_>, targets: Vec<&[PrincipalContact]>) -> Vec<(Decided, SearchStats)> {
+    targets
+        .into_par_iter()
+        .map(|target| {
+            let mut stats = SearchStats::default();
+            (problem.screen(target, &mut stats), stats)
+        })
+        .collect()
+}
 
 /// The states holding a single contact that was proved not to hold alone by a proof
 /// leaning on other pairs keeping apart (or left undecided): a contact may hold only
@@ -420,10 +450,18 @@ fn descend(
             }
         }
     }
-    let states = store.states();
-    let results: Vec<(Decided, SearchStats)> = candidates
-        .par_iter()
-        .map(|(target, from, witness, below)| {
+    let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
+    let mut pending = 0;
+    for chunk in candidates.chunks(BATCH) {
+        if store.work_limit_reached(pending) {
+            results.extend(screened(
+                problem,
+                chunk.iter().map(|(target, ..)| &target[..]).collect(),
+            ));
+            continue;
+        }
+        let (first, states) = (results.len(), store.states());
+        results.par_extend(chunk.par_iter().map(|(target, from, witness, below)| {
             let mut stats = SearchStats::default();
             let above = &states[*from].contacts;
             let decided = match below {
@@ -432,8 +470,9 @@ fn descend(
                 Below::Released => problem.release_below(target, above, *witness, &mut stats),
             };
             (decided, stats)
-        })
-        .collect();
+        }));
+        pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
+    }
     let mut new = 0;
     for ((target, _, _, below), (decided, stats)) in candidates.into_iter().zip(results) {
         let again = below != Below::New;
@@ -465,7 +504,13 @@ fn grow(store: &mut Store<'_>, problem: &Problem<'_>, grown: &mut Vec<usize>, pr
             return;
         }
         let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
+        let mut pending = 0;
         for chunk in candidates.chunks(BATCH) {
+            if store.work_limit_reached(pending) {
+                results.extend(screened(problem, chunk.iter().map(|c| &c.target[..]).collect()));
+                continue;
+            }
+            let first = results.len();
             let (states, units) = (store.states(), store.units());
             results.par_extend(chunk.par_iter().map(|c| {
                 let mut stats = SearchStats::default();
@@ -480,6 +525,7 @@ fn grow(store: &mut Store<'_>, problem: &Problem<'_>, grown: &mut Vec<usize>, pr
                 };
                 (problem.decide(&c.target, &starts, &mut stats), stats)
             }));
+            pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
             progress(Progress {
                 stage: 2,
                 done: results.len(),
