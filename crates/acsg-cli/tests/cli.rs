@@ -1236,30 +1236,32 @@ fn a_task_file_can_ask_for_facets() {
         .stderr(contains("round.toml:4:9: facet = -2"));
 }
 
+/// `generate` of the cube tilting on the slab (x, y ±1, z 0 to 30, rx, ry ±10°, rz free)
+/// with `flag` added: the JSON it prints and its summary.
+fn cube_tilting_on_the_slab(flag: Option<[&str; 2]>) -> (serde_json::Value, String) {
+    let mut command = acsg();
+    command
+        .arg("generate")
+        .arg(fixture("slab.off"))
+        .arg(fixture("cube.off"))
+        .args([
+            "--bounds",
+            "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180",
+            "--no-timings",
+        ]);
+    command.args(flag.iter().flatten());
+    let out = command.output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    (v, String::from_utf8_lossy(&out.stderr).to_string())
+}
+
 /// `--strategy paper` runs the paper's algorithm: named in the JSON and the summary,
 /// never complete, and its states are among the default's; an unknown name is a usage
 /// error; a task file may ask for it.
 #[test]
 fn the_papers_algorithm_is_a_strategy_of_generate_and_task_files() {
-    let generate = |strategy: Option<&str>| {
-        let mut command = acsg();
-        command
-            .arg("generate")
-            .arg(fixture("slab.off"))
-            .arg(fixture("cube.off"))
-            .args([
-                "--bounds",
-                "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180",
-                "--no-timings",
-            ]);
-        if let Some(name) = strategy {
-            command.args(["--strategy", name]);
-        }
-        let out = command.output().unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        (v, String::from_utf8_lossy(&out.stderr).to_string())
-    };
+    let generate = |strategy: Option<&str>| cube_tilting_on_the_slab(strategy.map(|name| ["--strategy", name]));
     let (paper, summary) = generate(Some("paper"));
     let (full, full_summary) = generate(None);
     assert_eq!(paper["options"]["strategy"], "paper");
@@ -1326,25 +1328,7 @@ fn the_papers_algorithm_is_a_strategy_of_generate_and_task_files() {
 /// left undecided listed); a task file may set it; 0 or a non-number is a usage error.
 #[test]
 fn a_work_limit_cuts_the_run_short_and_the_outputs_say_so() {
-    let generate = |limit: Option<&str>| {
-        let mut command = acsg();
-        command
-            .arg("generate")
-            .arg(fixture("slab.off"))
-            .arg(fixture("cube.off"))
-            .args([
-                "--bounds",
-                "x=-1:1,y=-1:1,z=0:30,rx=-10:10,ry=-10:10,rz=-180:180",
-                "--no-timings",
-            ]);
-        if let Some(limit) = limit {
-            command.args(["--work-limit", limit]);
-        }
-        let out = command.output().unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        (v, String::from_utf8_lossy(&out.stderr).to_string())
-    };
+    let generate = |limit: Option<&str>| cube_tilting_on_the_slab(limit.map(|limit| ["--work-limit", limit]));
     let (cut, summary) = generate(Some("100"));
     assert_eq!(cut["options"]["work_limit"], 100);
     assert_eq!(cut["stats"]["work_limit_reached"], true);
