@@ -27,6 +27,10 @@
 //! showing another state records that state (if new). Candidates of one round are
 //! decided in parallel and merged in a fixed order, so the output does not depend on
 //! the number of threads.
+//!
+//! With a work limit ([`crate::graph::Options::work_limit`]), checked between batches,
+//! the candidates met once it is reached get the cheap proofs alone
+//! ([`Problem::screen`]), and the coupled searches, sweeps and last proofs are skipped.
 
 use std::collections::{BTreeMap, BTreeSet};
 
