@@ -1373,4 +1373,14 @@ fn a_work_limit_cuts_the_run_short_and_the_outputs_say_so() {
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("cut.graph.json")).unwrap()).unwrap();
     assert_eq!(v["options"]["work_limit"], 100);
     assert_eq!(v["stats"]["work_limit_reached"], true);
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("work_limit = 100", "work_limit = 0");
+    std::fs::write(&path, text).unwrap();
+    acsg()
+        .arg("run")
+        .arg(&path)
+        .assert()
+        .code(1)
+        .stderr(contains("cut.toml:11:14: [options] work_limit = 0"));
 }

@@ -111,7 +111,7 @@ struct OptionsTable {
     #[serde(default)]
     strategy: Strategy,
     #[serde(default)]
-    work_limit: Option<u64>,
+    work_limit: Option<toml::Spanned<u64>>,
     assembled: Option<Numbers>,
 }
 
@@ -277,9 +277,17 @@ impl Task {
             threads,
             effort: file.options.effort.max(1),
             strategy: file.options.strategy,
-            work_limit: file.options.work_limit,
+            work_limit: file.options.work_limit.as_ref().map(|w| *w.get_ref()),
             ..Options::default()
         };
+        if let Some(w) = file.options.work_limit.as_ref().filter(|w| *w.get_ref() == 0) {
+            return Err(at(
+                w.span(),
+                "[options] work_limit = 0; give the most work the run may do, at least 1 (boxes of poses), or leave \
+                 the key out for no limit"
+                    .to_string(),
+            ));
+        }
         if let Some(g) = &file.options.assembled {
             if g.get_ref().len() != 6 {
                 return Err(at(
