@@ -182,32 +182,29 @@ fn decide_singles(store: &mut Store<'_>, problem: &Problem<'_>, progress: &(dyn 
     let singles = single_contacts(store.fixed(), store.moving(), store.options().degenerate);
     store.stats.ppc = singles.iter().filter(|pc| is_primitive(pc)).count();
     store.stats.singles = singles.len();
-    let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(singles.len());
-    let mut pending = 0;
-    for chunk in singles.chunks(BATCH) {
-        if store.work_limit_reached(pending) {
-            results.extend(screened(problem, chunk.iter().map(std::slice::from_ref).collect()));
-            continue;
-        }
-        let first = results.len();
-        results.par_extend(chunk.par_iter().map(|pc| {
-            let mut stats = SearchStats::default();
+    let (results, pending) = decide_in_batches(
+        store,
+        problem,
+        &singles,
+        std::slice::from_ref,
+        |_, pc, stats| {
             let starts = Starts {
                 warm: &[],
                 anchor: pc,
                 constructive: PRIMITIVE_STARTS,
                 boost: SINGLE_BOOST,
             };
-            (problem.decide(&[*pc], &starts, &mut stats), stats)
-        }));
-        pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
-        progress(Progress {
-            stage: 1,
-            done: results.len(),
-            total: singles.len(),
-            states: store.states().len(),
-        });
-    }
+            problem.decide(&[*pc], &starts, stats)
+        },
+        |store, done| {
+            progress(Progress {
+                stage: 1,
+                done,
+                total: singles.len(),
+                states: store.states().len(),
+            });
+        },
+    );
     let (units, stats) = if store.work_limit_reached(pending) {
         (Vec::new(), SearchStats::default())
     } else {
@@ -312,16 +309,39 @@ fn sweep_undecided(store: &mut Store<'_>, problem: &Problem<'_>, swept: &mut BTr
 /// A state met or searched for.
 type Met = (Vec<PrincipalContact>, Pose);
 
-/// The outcome recorded for a candidate met once the work limit is reached: the cheap
-/// proofs alone ([`Problem::screen`]), in parallel.
-fn screened(problem: &Problem<'_>, targets: Vec<&[PrincipalContact]>) -> Vec<(Decided, SearchStats)> {
-    targets
-        .into_par_iter()
-        .map(|target| {
+/// Decides `items` (each candidate's contacts given by `target`) in batches of
+/// [`BATCH`]: in parallel within a batch, in order across them, with `after_batch`
+/// told how many are done after each. Once the run's work limit is reached (checked
+/// between batches, so the output does not depend on the thread count), the rest get
+/// the cheap proofs alone ([`Problem::screen`]). The outcomes in the items' order, and
+/// the work they did, which the store has not recorded yet.
+fn decide_in_batches<T: Sync>(
+    store: &mut Store<'_>,
+    problem: &Problem<'_>,
+    items: &[T],
+    target: impl Fn(&T) -> &[PrincipalContact] + Sync,
+    decide: impl Fn(&Store<'_>, &T, &mut SearchStats) -> Decided + Sync,
+    after_batch: impl Fn(&Store<'_>, usize),
+) -> (Vec<(Decided, SearchStats)>, u64) {
+    let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(items.len());
+    let mut pending = 0;
+    for chunk in items.chunks(BATCH) {
+        let screen = store.work_limit_reached(pending);
+        let first = results.len();
+        let store = &*store;
+        results.par_extend(chunk.par_iter().map(|item| {
             let mut stats = SearchStats::default();
-            (problem.screen(target, &mut stats), stats)
-        })
-        .collect()
+            let decided = if screen {
+                problem.screen(target(item), &mut stats)
+            } else {
+                decide(store, item, &mut stats)
+            };
+            (decided, stats)
+        }));
+        pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
+        after_batch(store, results.len());
+    }
+    (results, pending)
 }
 
 /// The states holding a single contact that was proved not to hold alone by a proof
@@ -454,29 +474,21 @@ fn descend(
             }
         }
     }
-    let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
-    let mut pending = 0;
-    for chunk in candidates.chunks(BATCH) {
-        if store.work_limit_reached(pending) {
-            results.extend(screened(
-                problem,
-                chunk.iter().map(|(target, ..)| &target[..]).collect(),
-            ));
-            continue;
-        }
-        let (first, states) = (results.len(), store.states());
-        results.par_extend(chunk.par_iter().map(|(target, from, witness, below)| {
-            let mut stats = SearchStats::default();
-            let above = &states[*from].contacts;
-            let decided = match below {
-                Below::New => problem.decide_below(target, above, *witness, &mut stats),
-                Below::Again => problem.retry_below(target, above, *witness, &mut stats),
-                Below::Released => problem.release_below(target, above, *witness, &mut stats),
-            };
-            (decided, stats)
-        }));
-        pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
-    }
+    let (results, _) = decide_in_batches(
+        store,
+        problem,
+        &candidates,
+        |(target, ..)| &target[..],
+        |store, (target, from, witness, below), stats| {
+            let above = &store.states()[*from].contacts;
+            match below {
+                Below::New => problem.decide_below(target, above, *witness, stats),
+                Below::Again => problem.retry_below(target, above, *witness, stats),
+                Below::Released => problem.release_below(target, above, *witness, stats),
+            }
+        },
+        |_, _| {},
+    );
     let mut new = 0;
     for ((target, _, _, below), (decided, stats)) in candidates.into_iter().zip(results) {
         let again = below != Below::New;
@@ -507,19 +519,14 @@ fn grow(store: &mut Store<'_>, problem: &Problem<'_>, grown: &mut Vec<usize>, pr
         if candidates.is_empty() {
             return;
         }
-        let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(candidates.len());
-        let mut pending = 0;
-        for chunk in candidates.chunks(BATCH) {
-            if store.work_limit_reached(pending) {
-                results.extend(screened(problem, chunk.iter().map(|c| &c.target[..]).collect()));
-                continue;
-            }
-            let first = results.len();
-            let (states, units) = (store.states(), store.units());
-            results.par_extend(chunk.par_iter().map(|c| {
-                let mut stats = SearchStats::default();
-                let parent = states[c.parent].witness;
-                let (added, added_witness) = &units[c.added];
+        let (results, _) = decide_in_batches(
+            store,
+            problem,
+            &candidates,
+            |c| &c.target[..],
+            |store, c, stats| {
+                let parent = store.states()[c.parent].witness;
+                let (added, added_witness) = &store.units()[c.added];
                 let warm: Vec<Pose> = parent.into_iter().chain([*added_witness]).collect();
                 let starts = Starts {
                     warm: &warm,
@@ -527,16 +534,17 @@ fn grow(store: &mut Store<'_>, problem: &Problem<'_>, grown: &mut Vec<usize>, pr
                     constructive: GROWTH_STARTS,
                     boost: 1,
                 };
-                (problem.decide(&c.target, &starts, &mut stats), stats)
-            }));
-            pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
-            progress(Progress {
-                stage: 2,
-                done: results.len(),
-                total: candidates.len(),
-                states: store.states().len(),
-            });
-        }
+                problem.decide(&c.target, &starts, stats)
+            },
+            |store, done| {
+                progress(Progress {
+                    stage: 2,
+                    done,
+                    total: candidates.len(),
+                    states: store.states().len(),
+                });
+            },
+        );
         for (candidate, (decided, stats)) in candidates.into_iter().zip(results) {
             let counts = &mut store.stats;
             counts.stage2_optimisations += stats.optimisations;
