@@ -33,6 +33,8 @@
 //! ([`Problem::screen`]), and the coupled searches, sweeps and last proofs are skipped.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -57,6 +59,8 @@ const COUPLED_STARTS: usize = 4;
 
 /// Constructive starts of a stage-2 search (after the warm starts).
 const GROWTH_STARTS: usize = 4;
+/// Candidates decided between two progress reports.
+const PROGRESS_EVERY: usize = 16;
 
 /// How a candidate below a state is searched.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -153,13 +157,13 @@ fn prove_last(store: &mut Store<'_>, problem: &Problem<'_>, proved_last: &mut BT
     let mut left = store.undecided_to_prove();
     // Each candidate once: one left open stays so until a state of it turns up.
     left.retain(|(target, _, _)| proved_last.insert(target.clone()));
-    let mut results: Vec<(Result<(), Bounds>, SearchStats)> = Vec::with_capacity(left.len());
-    for chunk in left.chunks(BATCH) {
-        results.par_extend(chunk.par_iter().map(|(target, open, rest)| {
+    let results: Vec<(Result<(), Bounds>, SearchStats)> = left
+        .par_iter()
+        .map(|(target, open, rest)| {
             let mut stats = SearchStats::default();
             (problem.prove_last(target, open, rest, &mut stats).map(|_| ()), stats)
-        }));
-    }
+        })
+        .collect();
     let mut proved = BTreeSet::new();
     let mut still_open = BTreeMap::new();
     for ((target, _, _), (outcome, stats)) in left.into_iter().zip(results) {
@@ -309,26 +313,36 @@ fn sweep_undecided(store: &mut Store<'_>, problem: &Problem<'_>, swept: &mut BTr
 /// A state met or searched for.
 type Met = (Vec<PrincipalContact>, Pose);
 
-/// Decides `items` (each candidate's contacts given by `target`) in batches of
-/// [`BATCH`]: in parallel within a batch, in order across them, with `after_batch`
-/// told how many are done after each. Once the run's work limit is reached (checked
-/// between batches, so the output does not depend on the thread count), the rest get
-/// the cheap proofs alone ([`Problem::screen`]). The outcomes in the items' order, and
-/// the work they did, which the store has not recorded yet.
+/// Decides `items` (each candidate's contacts given by `target`) in parallel, the
+/// outcomes in the items' order, with `progress` told how many are done as they finish
+/// (never fewer than it was told before).
+///
+/// With a work limit, in batches of [`BATCH`], in order: once the limit is reached
+/// (checked between batches, so the output does not depend on the thread count), the
+/// rest get the cheap proofs alone ([`Problem::screen`]). Without one, in one batch:
+/// no core waits at a batch's end for another's long candidate. The outcomes, and the
+/// work they did, which the store has not recorded yet.
 fn decide_in_batches<T: Sync>(
     store: &mut Store<'_>,
     problem: &Problem<'_>,
     items: &[T],
     target: impl Fn(&T) -> &[PrincipalContact] + Sync,
     decide: impl Fn(&Store<'_>, &T, &mut SearchStats) -> Decided + Sync,
-    after_batch: impl Fn(&Store<'_>, usize),
+    progress: impl Fn(&Store<'_>, usize) + Sync,
 ) -> (Vec<(Decided, SearchStats)>, u64) {
+    let batch = if store.options().work_limit.is_some() {
+        BATCH
+    } else {
+        items.len().max(1)
+    };
     let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(items.len());
     let mut pending = 0;
-    for chunk in items.chunks(BATCH) {
+    let shown = Mutex::new(0);
+    for chunk in items.chunks(batch) {
         let screen = store.work_limit_reached(pending);
         let first = results.len();
         let store = &*store;
+        let done = AtomicUsize::new(first);
         results.par_extend(chunk.par_iter().map(|item| {
             let mut stats = SearchStats::default();
             let decided = if screen {
@@ -336,10 +350,19 @@ fn decide_in_batches<T: Sync>(
             } else {
                 decide(store, item, &mut stats)
             };
+            let now = done.fetch_add(1, Ordering::Relaxed) + 1;
+            if now % PROGRESS_EVERY == 0 || now == items.len() {
+                // Reported in increasing order: a report that comes late is dropped.
+                if let Ok(mut shown) = shown.lock() {
+                    if now > *shown {
+                        *shown = now;
+                        progress(store, now);
+                    }
+                }
+            }
             (decided, stats)
         }));
         pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
-        after_batch(store, results.len());
     }
     (results, pending)
 }
