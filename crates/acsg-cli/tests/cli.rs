@@ -253,6 +253,11 @@ fn missing_file_and_unknown_format_are_errors() {
         .assert()
         .code(1)
         .stderr(contains("no/such/file.off").and(contains("cannot read")));
+    // The operating system's reason is said once, though the library's message holds
+    // it and names it as its source too.
+    let out = acsg().args(["inspect", "no/such/file.off"]).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.matches("os error").count(), 1, "{stderr}");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("notes.txt");
     std::fs::write(&path, "these are not the vertices you are looking for\n").unwrap();
