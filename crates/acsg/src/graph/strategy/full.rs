@@ -33,8 +33,6 @@
 //! ([`Problem::screen`]), and the coupled searches, sweeps and last proofs are skipped.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
@@ -59,8 +57,10 @@ const COUPLED_STARTS: usize = 4;
 
 /// Constructive starts of a stage-2 search (after the warm starts).
 const GROWTH_STARTS: usize = 4;
-/// Candidates decided between two progress reports.
-const PROGRESS_EVERY: usize = 16;
+/// Candidates decided in parallel between two progress reports when the run has no
+/// work limit: four times [`BATCH`], so that a core waits less often at a batch's end
+/// for another's long candidate (the built-in example: 0.86× the wall time).
+const WIDE_BATCH: usize = 4 * BATCH;
 
 /// How a candidate below a state is searched.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -313,36 +313,34 @@ fn sweep_undecided(store: &mut Store<'_>, problem: &Problem<'_>, swept: &mut BTr
 /// A state met or searched for.
 type Met = (Vec<PrincipalContact>, Pose);
 
-/// Decides `items` (each candidate's contacts given by `target`) in parallel, the
-/// outcomes in the items' order, with `progress` told how many are done as they finish
-/// (never fewer than it was told before).
+/// Decides `items` (each candidate's contacts given by `target`) in batches: in
+/// parallel within a batch, in order across them, with `progress` told how many are
+/// done after each (from the calling thread, where a Python caller's Ctrl-C is seen).
 ///
-/// With a work limit, in batches of [`BATCH`], in order: once the limit is reached
-/// (checked between batches, so the output does not depend on the thread count), the
-/// rest get the cheap proofs alone ([`Problem::screen`]). Without one, in one batch:
-/// no core waits at a batch's end for another's long candidate. The outcomes, and the
-/// work they did, which the store has not recorded yet.
+/// With a work limit, batches of [`BATCH`]: once the limit is reached (checked between
+/// batches, so the output does not depend on the thread count), the rest get the
+/// cheap proofs alone ([`Problem::screen`]). Without one, batches of [`WIDE_BATCH`]:
+/// fewer barriers where a core waits for another's long candidate. The outcomes, and
+/// the work they did, which the store has not recorded yet.
 fn decide_in_batches<T: Sync>(
     store: &mut Store<'_>,
     problem: &Problem<'_>,
     items: &[T],
     target: impl Fn(&T) -> &[PrincipalContact] + Sync,
     decide: impl Fn(&Store<'_>, &T, &mut SearchStats) -> Decided + Sync,
-    progress: impl Fn(&Store<'_>, usize) + Sync,
+    progress: impl Fn(&Store<'_>, usize),
 ) -> (Vec<(Decided, SearchStats)>, u64) {
     let batch = if store.options().work_limit.is_some() {
         BATCH
     } else {
-        items.len().max(1)
+        WIDE_BATCH
     };
     let mut results: Vec<(Decided, SearchStats)> = Vec::with_capacity(items.len());
     let mut pending = 0;
-    let shown = Mutex::new(0);
     for chunk in items.chunks(batch) {
         let screen = store.work_limit_reached(pending);
         let first = results.len();
         let store = &*store;
-        let done = AtomicUsize::new(first);
         results.par_extend(chunk.par_iter().map(|item| {
             let mut stats = SearchStats::default();
             let decided = if screen {
@@ -350,19 +348,10 @@ fn decide_in_batches<T: Sync>(
             } else {
                 decide(store, item, &mut stats)
             };
-            let now = done.fetch_add(1, Ordering::Relaxed) + 1;
-            if now % PROGRESS_EVERY == 0 || now == items.len() {
-                // Reported in increasing order: a report that comes late is dropped.
-                if let Ok(mut shown) = shown.lock() {
-                    if now > *shown {
-                        *shown = now;
-                        progress(store, now);
-                    }
-                }
-            }
             (decided, stats)
         }));
         pending += results[first..].iter().map(|(_, stats)| work(stats)).sum::<u64>();
+        progress(store, results.len());
     }
     (results, pending)
 }
