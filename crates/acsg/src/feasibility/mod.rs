@@ -31,7 +31,7 @@ mod edge_pair;
 mod fold;
 mod hinge;
 mod interval;
-mod lp;
+pub(crate) mod lp;
 mod normals;
 mod parallel;
 mod pierce;
@@ -270,7 +270,8 @@ impl<'a> Problem<'a> {
         &self.scene
     }
 
-    fn placement(&self, pose: &Pose) -> DAffine3 {
+    /// Where the moving part's frame goes at `pose` (G composed with the pose).
+    pub(crate) fn placement(&self, pose: &Pose) -> DAffine3 {
         pose.to_affine(&self.assembled)
     }
 
