@@ -171,6 +171,11 @@ impl Decided {
 const QUICK_PRUNE_BUDGET: usize = 32;
 /// Boxes examined by the cheap proofs in all, before the searches inside boxes.
 const PRUNE_BUDGET: usize = 256;
+/// Boxes the last proofs' conditions examine over the whole bounds in a decision, once
+/// its starts and its cheap proofs have failed: most candidates that hold only in the
+/// limit of a larger state fall in a few (two on the built-in example), where the
+/// decision's own conditions spent their whole budget in vain.
+const EARLY_LAST_BUDGET: usize = 32;
 /// Boxes of rotations examined while searching inside them, per unit of effort.
 const SEARCH_BUDGET: usize = 256;
 /// Boxes examined by the last proofs, split in every component, per unit of effort.
@@ -332,12 +337,12 @@ impl Problem<'_> {
     }
 
     /// [`Problem::conditions`] for the last proofs ([`super::prover::Prover::last_links`]),
-    /// with the contacts' normals compared first ([`super::normals`]). That test
-    /// waits for the last proofs, although it is cheap and sound from the start: the
-    /// searches of candidates that hold only in the limit of a larger state (a corner
-    /// in a groove, its edge nearly along it) land on the slivers next to that state,
-    /// states no other search finds (the built-in example's bottom edge on the floor
-    /// with an upright edge on the wall and the top edges crossing).
+    /// with the contacts' normals compared first ([`super::normals`]). A decision
+    /// tries them only after its starts, although they are cheap and sound from the
+    /// start: the searches of candidates that hold only in the limit of a larger state
+    /// (a corner in a groove, its edge nearly along it) land on the slivers next to
+    /// that state, states no other search finds (the built-in example's bottom edge on
+    /// the floor with an upright edge on the wall and the top edges crossing).
     fn last_conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
         self.last_conditions_with(target, |target| self.strict_turns(target))
     }
@@ -888,6 +893,12 @@ impl Problem<'_> {
         if let Some(decision) = prune(PRUNE_BUDGET, &mut branching, others, stats) {
             return decision;
         }
+        // The last proofs' stronger conditions, briefly: after the starts, whose
+        // searches meet the states next to the candidate, and before the searches
+        // inside boxes and the long branch and prune.
+        if let Some(proof) = self.proved_early(target, stats) {
+            return Decision::Infeasible(proof);
+        }
         // Point contacts that pin the translation to a line: a search over the rotation.
         if let Some(pose) = self.slide_search(target, bounds, true, others) {
             return Decision::Witnessed(pose);
@@ -931,6 +942,30 @@ impl Problem<'_> {
             }
         }
         decision
+    }
+
+    /// The proof of the last proofs' conditions ([`Problem::last_conditions`]) over the
+    /// whole bounds within [`EARLY_LAST_BUDGET`] boxes, if they find one.
+    fn proved_early(&self, target: &[PrincipalContact], stats: &mut SearchStats) -> Option<Proof> {
+        let conditions = match self.last_conditions(target) {
+            Ok(conditions) => conditions,
+            Err(rule) => return Some(Proof::outright(rule)),
+        };
+        let mut branching = Branching::new(&[self.bounds]);
+        let budget = EARLY_LAST_BUDGET * self.effort as usize;
+        match self.branch(
+            target,
+            &conditions,
+            Mode::All,
+            &mut branching,
+            budget,
+            None,
+            &mut Vec::new(),
+            stats,
+        ) {
+            Some(Decision::Infeasible(proof)) => Some(proof),
+            _ => None,
+        }
     }
 
     /// Examines boxes until none is left open (proof), a witness is found, a box
@@ -1704,12 +1739,13 @@ mod tests {
     }
 
     #[test]
-    fn the_last_proofs_close_what_the_decision_leaves_open() {
+    fn the_last_proofs_close_what_the_decisions_own_conditions_leave_open() {
         // The hole's rim edge e11 on the peg's bottom face f2, the peg tilted about y
         // by −0.002 to −0.004 rad, x near −1 (where the bottom may reach past the rim):
         // past the rim the bottom dips into the top face, so no pose here shows the
-        // contact alone (see the prover's test of the same box). The decision, whose
-        // searches come first, leaves it open; the last proofs close it.
+        // contact alone (see the prover's test of the same box). The decision's own
+        // conditions leave it open; the last proofs' close it, in the decision (after
+        // its searches), and from what it would hand on.
         let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
         let bounds = Bounds::try_new(
             [-1.0, 0.0, 39.8, 0.0, -0.004, 0.0],
@@ -1718,21 +1754,36 @@ mod tests {
         .unwrap();
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [contact("e11", "f2", K::EdgeFace)];
+        let conditions = problem.conditions(&target).expect("conditions");
+        let mut branching = Branching::new(&[bounds]);
+        let mut stats = SearchStats::default();
+        let budget = PRUNE_BUDGET + SEARCH_BUDGET + PROOF_BUDGET;
+        let own = problem.branch(
+            &target,
+            &conditions,
+            Mode::All,
+            &mut branching,
+            budget,
+            None,
+            &mut Vec::new(),
+            &mut stats,
+        );
+        assert!(!matches!(own, Some(Decision::Infeasible(_))), "{own:?}");
         let starts = Starts {
             warm: &[],
             anchor: &target[0],
             constructive: 2,
             boost: 1,
         };
-        let mut stats = SearchStats::default();
         let decided = problem.decide(&target, &starts, &mut stats);
-        let Decision::Undecided(open) = decided.decision else {
-            panic!("the decision should leave it open: {:?}", decided.decision);
+        let Decision::Infeasible(proof) = decided.decision else {
+            panic!("the decision should prove it: {:?}", decided.decision);
         };
-        // It left more boxes open than the last proofs go on from (over 500), so it
-        // hands on none, and the last proofs start again from the whole bounds.
-        assert!(decided.rest.is_empty(), "{} boxes handed on", decided.rest.len());
-        assert!(problem.prove_last(&target, &open, &decided.rest, &mut stats).is_ok());
+        assert!(proof.boxes <= EARLY_LAST_BUDGET, "{} boxes", proof.boxes);
+        assert!(stats.optimisations > 0, "the searches come first");
+        // With no boxes handed on, the last proofs start again from the whole bounds.
+        let open = bounds;
+        assert!(problem.prove_last(&target, &open, &[], &mut stats).is_ok());
         // Handed boxes that cover the poses left open (here the two halves of the
         // bounds), they go on from those.
         let (lo, hi) = (bounds.min.to_array(), bounds.max.to_array());
