@@ -104,6 +104,11 @@ pub(crate) fn solve(rows: &[Row], lo: &[f64; VARS], hi: &[f64; VARS]) -> Outcome
     let Some(mut inverse) = basis(&active) else {
         return Outcome::Unknown;
     };
+    // Which halves are active, for the ratio test's scan over all of them.
+    let mut is_active = vec![false; halves.len()];
+    for &j in &active {
+        is_active[j] = true;
+    }
     for iteration in 1..=200 {
         // Multipliers of the active constraints for min v: Mᵀ λ = −e_v.
         let lambda: [f64; N] = std::array::from_fn(|i| -inverse[VARS][i]);
@@ -122,7 +127,7 @@ pub(crate) fn solve(rows: &[Row], lo: &[f64; VARS], hi: &[f64; VARS]) -> Outcome
         let mut step = f64::INFINITY;
         let mut enter = None;
         for (j, h) in halves.iter().enumerate() {
-            if active.contains(&j) {
+            if is_active[j] {
                 continue;
             }
             let gd = dot(&h.g, &d);
@@ -143,6 +148,8 @@ pub(crate) fn solve(rows: &[Row], lo: &[f64; VARS], hi: &[f64; VARS]) -> Outcome
         if z[VARS] <= 0.0 {
             return point(&z);
         }
+        is_active[active[leave]] = false;
+        is_active[enter] = true;
         active[leave] = enter;
         // One row of the basis changed: the inverse follows in O(N²), from scratch
         // every [`REFRESH`] steps or when the pivot is small, against drift.
