@@ -951,11 +951,22 @@ impl Problem<'_> {
             Ok(conditions) => conditions,
             Err(rule) => return Some(Proof::outright(rule)),
         };
+        self.proof_within(target, &conditions, EARLY_LAST_BUDGET * self.effort as usize, stats)
+    }
+
+    /// The proof, split in every component with no search, that no pose of the whole
+    /// bounds meets `conditions`, if `budget` boxes find one.
+    fn proof_within(
+        &self,
+        target: &[PrincipalContact],
+        conditions: &Conditions,
+        budget: usize,
+        stats: &mut SearchStats,
+    ) -> Option<Proof> {
         let mut branching = Branching::new(&[self.bounds]);
-        let budget = EARLY_LAST_BUDGET * self.effort as usize;
         match self.branch(
             target,
-            &conditions,
+            conditions,
             Mode::All,
             &mut branching,
             budget,
@@ -1755,20 +1766,9 @@ mod tests {
         let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
         let target = [contact("e11", "f2", K::EdgeFace)];
         let conditions = problem.conditions(&target).expect("conditions");
-        let mut branching = Branching::new(&[bounds]);
         let mut stats = SearchStats::default();
         let budget = PRUNE_BUDGET + SEARCH_BUDGET + PROOF_BUDGET;
-        let own = problem.branch(
-            &target,
-            &conditions,
-            Mode::All,
-            &mut branching,
-            budget,
-            None,
-            &mut Vec::new(),
-            &mut stats,
-        );
-        assert!(!matches!(own, Some(Decision::Infeasible(_))), "{own:?}");
+        assert!(problem.proof_within(&target, &conditions, budget, &mut stats).is_none());
         let starts = Starts {
             warm: &[],
             anchor: &target[0],
