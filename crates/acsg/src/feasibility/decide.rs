@@ -172,9 +172,9 @@ const QUICK_PRUNE_BUDGET: usize = 32;
 /// Boxes examined by the cheap proofs in all, before the searches inside boxes.
 const PRUNE_BUDGET: usize = 256;
 /// Boxes the last proofs' conditions examine over the whole bounds in a decision, once
-/// its starts and its cheap proofs have failed: most candidates that hold only in the
-/// limit of a larger state fall in a few (two on the built-in example), where the
-/// decision's own conditions spent their whole budget in vain.
+/// its starts have failed: most candidates that hold only in the limit of a larger
+/// state fall in a few (two on the built-in example), where the decision's own
+/// conditions spent their whole budget in vain.
 const EARLY_LAST_BUDGET: usize = 32;
 /// Boxes of rotations examined while searching inside them, per unit of effort.
 const SEARCH_BUDGET: usize = 256;
@@ -890,14 +890,14 @@ impl Problem<'_> {
                 return Decision::Witnessed(pose);
             }
         }
-        if let Some(decision) = prune(PRUNE_BUDGET, &mut branching, others, stats) {
-            return decision;
-        }
         // The last proofs' stronger conditions, briefly: after the starts, whose
-        // searches meet the states next to the candidate, and before the searches
-        // inside boxes and the long branch and prune.
+        // searches meet the states next to the candidate, and before the rest of the
+        // cheap proofs, the searches inside boxes and the long branch and prune.
         if let Some(proof) = self.proved_early(target, stats) {
             return Decision::Infeasible(proof);
+        }
+        if let Some(decision) = prune(PRUNE_BUDGET, &mut branching, others, stats) {
+            return decision;
         }
         // Point contacts that pin the translation to a line: a search over the rotation.
         if let Some(pose) = self.slide_search(target, bounds, true, others) {
