@@ -5,11 +5,10 @@
 
 use std::collections::{BTreeSet, HashMap};
 
+use glam::{DMat3, DVec3};
 use rayon::prelude::*;
 
 use super::{State, rules};
-use glam::{DMat3, DVec3};
-
 use crate::contact::{ContactKind, PrincipalContact};
 use crate::feasibility::lp::{self, Row, VARS};
 use crate::feasibility::{Problem, is_primitive};
@@ -267,7 +266,6 @@ fn separating_normal(fixed: &Part, moving: &Part, rotation: &DMat3, pc: &Princip
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contact::ContactKind;
     use crate::examples::builtin;
     use crate::pose::Bounds;
 
