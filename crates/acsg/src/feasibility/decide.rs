@@ -1534,21 +1534,6 @@ mod tests {
     use crate::contact::ContactKind as K;
     use crate::testing::{contact, fixture};
 
-    #[test]
-    fn a_proof_by_a_reflex_corner_leaves_the_states_with_more_contacts_open() {
-        // reflex.rs: at a reflex corner on a face, some pair that no contact lists
-        // touches or the parts penetrate, so the states holding the contact with that
-        // pair touching are not ruled out; the rules about the contact alone are.
-        let by = |rules: &[Rule]| Proof {
-            rules: rules.iter().copied().collect(),
-            boxes: 1,
-        };
-        assert!(by(&[Rule::ReflexCorner]).leans_on_others_apart());
-        assert!(by(&[Rule::Distance, Rule::Robustness]).leans_on_others_apart());
-        assert!(!by(&[Rule::NormalAngles]).leans_on_others_apart());
-        assert!(!by(&[Rule::Orientation, Rule::Distance, Rule::Penetration]).leans_on_others_apart());
-    }
-
     /// `f` of the built-in example's problem.
     fn with_the_example<T>(f: impl FnOnce(&Problem<'_>) -> T) -> T {
         let (block, cuboid) = crate::examples::l_block_and_box();

@@ -97,6 +97,41 @@ mod tests {
     }
 
     #[test]
+    fn the_holes_corner_on_the_peg_bottom_holds_with_another_contact_so_the_proof_leans_on_others() {
+        // The square peg tilted in the plain hole: the hole's corner v5 on the peg's
+        // bottom f2 never holds alone (the test below), yet the peg's corner v0 on the
+        // block's top f3 beside it makes a state, at this pose (the generator's witness,
+        // x at its bound). So a proof by the reflex corner says nothing of the states
+        // holding the contact with others, and stage 1 must still search for them.
+        let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let bounds = crate::testing::tilted_peg_bounds();
+        let problem = Problem::new(&block, &peg, bounds, glam::DAffine3::IDENTITY);
+        let single = [contact("v5", "f2", K::VertexFace)];
+        assert_eq!(problem.last_exclusion(&single, &bounds), Some(Rule::ReflexCorner));
+        let mut state = vec![contact("f3", "v0", K::FaceVertex), single[0]];
+        state.sort();
+        let pose = Pose::from_array([
+            -0.999768541671432,
+            -0.9994899367500578,
+            39.99466247871642,
+            0.00010199394019068386,
+            -4.627083730533374e-05,
+            0.0,
+        ]);
+        assert!(bounds.contains(&pose, 0.0, 0.0));
+        let placement = pose.to_affine(&glam::DAffine3::IDENTITY);
+        let report = problem.scene().evaluate(&placement, CONTACT_REL);
+        assert!(crate::testing::witnesses(problem.scene(), &placement, &report, &state));
+        let proof = |rule: Rule| crate::feasibility::Proof {
+            rules: [rule].into(),
+            boxes: 1,
+        };
+        assert!(proof(Rule::ReflexCorner).leans_on_others_apart());
+        // A rule about the contact alone (its normals) rules out every state holding it.
+        assert!(!proof(Rule::NormalAngles).leans_on_others_apart());
+    }
+
+    #[test]
     fn the_peg_bottom_on_the_holes_corner_is_never_a_witness_and_the_last_proofs_say_so() {
         // The hole's corner v5 (35, 35, 50) on the square peg's bottom f2 (z = 10, x
         // and y in [36, 64]), as the tilted peg's undecided candidates had it.
