@@ -97,6 +97,25 @@ pub(crate) fn grazing_crossing() -> (Vec<crate::contact::PrincipalContact>, [f64
     (state, witness)
 }
 
+/// A contact state of the square peg tilted in the plain hole
+/// ([`tilted_peg_bounds`]; sorted) and its robust witness, the generator's (x at its
+/// bound): the peg's bottom corner v0 on the block's top f3 just past the hole's rim
+/// corner v5, which touches the peg's bottom f2, the faces 1.1e-4 rad apart in turn.
+pub(crate) fn corner_beside_the_rim() -> (Vec<crate::contact::PrincipalContact>, crate::pose::Pose) {
+    use crate::contact::ContactKind as K;
+    let mut state = vec![contact("f3", "v0", K::FaceVertex), contact("v5", "f2", K::VertexFace)];
+    state.sort();
+    let witness = crate::pose::Pose::from_array([
+        -0.999768541671432,
+        -0.9994899367500578,
+        39.99466247871642,
+        0.00010199394019068386,
+        -4.627083730533374e-05,
+        0.0,
+    ]);
+    (state, witness)
+}
+
 /// Whether `report`, read at `placement`, is a robust witness of exactly `target`:
 /// the contact module reads that state there and the witness check finds no flaw.
 pub(crate) fn witnesses(

@@ -75,9 +75,22 @@ mod tests {
     use super::*;
     use crate::contact::ContactKind as K;
     use crate::feasibility::{Problem, Rule};
-    use crate::pose::Pose;
+    use crate::pose::{Bounds, Pose};
     use crate::testing::{contact, fixture};
     use crate::tolerance::CONTACT_REL;
+
+    /// `f` of the square peg tilted in the plain hole (`testing::tilted_peg_bounds`):
+    /// the block, the peg, their problem and its bounds.
+    fn with_the_tilted_peg(f: impl FnOnce(&Part, &Part, &Problem<'_>, Bounds)) {
+        let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
+        let bounds = crate::testing::tilted_peg_bounds();
+        f(
+            &block,
+            &peg,
+            &Problem::new(&block, &peg, bounds, glam::DAffine3::IDENTITY),
+            bounds,
+        );
+    }
 
     #[test]
     fn the_holes_corners_are_reflex_corners_of_the_top_and_the_blocks_outer_corners_are_not() {
@@ -100,76 +113,65 @@ mod tests {
     fn the_holes_corner_on_the_peg_bottom_holds_with_another_contact_so_the_proof_leans_on_others() {
         // The square peg tilted in the plain hole: the hole's corner v5 on the peg's
         // bottom f2 never holds alone (the test below), yet the peg's corner v0 on the
-        // block's top f3 beside it makes a state, at this pose (the generator's witness,
-        // x at its bound). So a proof by the reflex corner says nothing of the states
+        // block's top f3 beside it makes a state, at the generator's witness. So a proof by the reflex corner says nothing of the states
         // holding the contact with others, and stage 1 must still search for them.
-        let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let bounds = crate::testing::tilted_peg_bounds();
-        let problem = Problem::new(&block, &peg, bounds, glam::DAffine3::IDENTITY);
-        let single = [contact("v5", "f2", K::VertexFace)];
-        assert_eq!(problem.last_exclusion(&single, &bounds), Some(Rule::ReflexCorner));
-        let mut state = vec![contact("f3", "v0", K::FaceVertex), single[0]];
-        state.sort();
-        let pose = Pose::from_array([
-            -0.999768541671432,
-            -0.9994899367500578,
-            39.99466247871642,
-            0.00010199394019068386,
-            -4.627083730533374e-05,
-            0.0,
-        ]);
-        assert!(bounds.contains(&pose, 0.0, 0.0));
-        let placement = pose.to_affine(&glam::DAffine3::IDENTITY);
-        let report = problem.scene().evaluate(&placement, CONTACT_REL);
-        assert!(crate::testing::witnesses(problem.scene(), &placement, &report, &state));
-        let proof = |rule: Rule| crate::feasibility::Proof {
-            rules: [rule].into(),
-            boxes: 1,
-        };
-        assert!(proof(Rule::ReflexCorner).leans_on_others_apart());
-        // A rule about the contact alone (its normals) rules out every state holding it.
-        assert!(!proof(Rule::NormalAngles).leans_on_others_apart());
+        with_the_tilted_peg(|_, _, problem, bounds| {
+            let single = [contact("v5", "f2", K::VertexFace)];
+            assert_eq!(problem.last_exclusion(&single, &bounds), Some(Rule::ReflexCorner));
+            let (state, pose) = crate::testing::corner_beside_the_rim();
+            assert!(state.contains(&single[0]));
+            assert!(bounds.contains(&pose, 0.0, 0.0));
+            let placement = pose.to_affine(&glam::DAffine3::IDENTITY);
+            let report = problem.scene().evaluate(&placement, CONTACT_REL);
+            assert!(crate::testing::witnesses(problem.scene(), &placement, &report, &state));
+            let proof = |rule: Rule| crate::feasibility::Proof {
+                rules: [rule].into(),
+                boxes: 1,
+            };
+            assert!(proof(Rule::ReflexCorner).leans_on_others_apart());
+            // A rule about the contact alone (its normals) rules out every state holding it.
+            assert!(!proof(Rule::NormalAngles).leans_on_others_apart());
+        });
     }
 
     #[test]
     fn the_peg_bottom_on_the_holes_corner_is_never_a_witness_and_the_last_proofs_say_so() {
         // The hole's corner v5 (35, 35, 50) on the square peg's bottom f2 (z = 10, x
         // and y in [36, 64]), as the tilted peg's undecided candidates had it.
-        let (block, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let bounds = crate::testing::tilted_peg_bounds();
-        let problem = Problem::new(&block, &peg, bounds, glam::DAffine3::IDENTITY);
-        let target = [contact("v5", "f2", K::VertexFace)];
-        assert!(corner_on_a_face(&block, &peg, &target));
-        assert_eq!(problem.last_exclusion(&target, &bounds), Some(Rule::ReflexCorner));
-        assert_ne!(problem.exclusion(&target, &bounds), Some(Rule::ReflexCorner));
-        // Independently, the contact module and the witness check: the bottom's point
-        // `(36 + a, 36 + b, 10)` put on the corner, tilted every way by 1e-4 to 1e-2
-        // rad and not at all, the corner 2e-4 mm (just past the separation, 1.5e-4) to
-        // 20 mm inside the bottom. The contact holds at many of them; no pose is a
-        // robust witness of it alone.
-        let corner = DVec3::new(35.0, 35.0, 50.0);
-        let tilts = [-1e-2, -1e-3, -1e-4, 0.0, 1e-4, 1e-3, 1e-2];
-        let insets = [2e-4, 1e-2, 1.0, 20.0];
-        let mut holding = 0;
-        for rx in tilts {
-            for ry in tilts {
-                for a in insets {
-                    for b in insets {
-                        let rotation = DMat3::from_rotation_y(ry) * DMat3::from_rotation_x(rx);
-                        let t = corner - rotation * DVec3::new(36.0 + a, 36.0 + b, 10.0);
-                        let placement =
-                            Pose::from_array([t.x, t.y, t.z, rx, ry, 0.0]).to_affine(&glam::DAffine3::IDENTITY);
-                        let report = problem.scene().evaluate(&placement, CONTACT_REL);
-                        if report.contacts.contains(&target[0]) {
-                            holding += 1;
+        with_the_tilted_peg(|block, peg, problem, bounds| {
+            let target = [contact("v5", "f2", K::VertexFace)];
+            assert!(corner_on_a_face(block, peg, &target));
+            assert_eq!(problem.last_exclusion(&target, &bounds), Some(Rule::ReflexCorner));
+            assert_ne!(problem.exclusion(&target, &bounds), Some(Rule::ReflexCorner));
+            // Independently, the contact module and the witness check: the bottom's point
+            // `(36 + a, 36 + b, 10)` put on the corner, tilted every way by 1e-4 to 1e-2
+            // rad and not at all, the corner 2e-4 mm (just past the separation, 1.5e-4) to
+            // 20 mm inside the bottom. The contact holds at many of them; no pose is a
+            // robust witness of it alone.
+            let corner = DVec3::new(35.0, 35.0, 50.0);
+            let tilts = [-1e-2, -1e-3, -1e-4, 0.0, 1e-4, 1e-3, 1e-2];
+            let insets = [2e-4, 1e-2, 1.0, 20.0];
+            let mut holding = 0;
+            for rx in tilts {
+                for ry in tilts {
+                    for a in insets {
+                        for b in insets {
+                            let rotation = DMat3::from_rotation_y(ry) * DMat3::from_rotation_x(rx);
+                            let t = corner - rotation * DVec3::new(36.0 + a, 36.0 + b, 10.0);
+                            let placement =
+                                Pose::from_array([t.x, t.y, t.z, rx, ry, 0.0]).to_affine(&glam::DAffine3::IDENTITY);
+                            let report = problem.scene().evaluate(&placement, CONTACT_REL);
+                            if report.contacts.contains(&target[0]) {
+                                holding += 1;
+                            }
+                            let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
+                            assert!(!witness, "a witness at rx {rx}, ry {ry}, inset ({a}, {b})");
                         }
-                        let witness = crate::testing::witnesses(problem.scene(), &placement, &report, &target);
-                        assert!(!witness, "a witness at rx {rx}, ry {ry}, inset ({a}, {b})");
                     }
                 }
             }
-        }
-        assert!(holding >= 100, "the contact holds at {holding} poses only");
+            assert!(holding >= 100, "the contact holds at {holding} poses only");
+        });
     }
 
     #[test]

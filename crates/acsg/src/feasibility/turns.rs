@@ -2158,16 +2158,8 @@ mod tests {
         // here): the peg's bottom corner v0 just past the rim corner on the top face,
         // the rim corner on the peg's bottom, the faces 1.1e-4 apart in turn. The last
         // proofs keep it.
-        let witness = Pose::from_array([
-            -0.999768541671432,
-            -0.9994899367500578,
-            39.99466247871642,
-            0.00010199394019068386,
-            -4.627083730533374e-05,
-            0.0,
-        ]);
-        let mut both = vec![crate::testing::contact("f3", "v0", K::FaceVertex), corner[0]];
-        both.sort();
+        let (both, witness) = crate::testing::corner_beside_the_rim();
+        assert!(both.contains(&corner[0]));
         assert_eq!(problem.verify(&witness), Some(both.clone()));
         let around = Bounds::try_new(
             std::array::from_fn(|k| witness.to_array()[k] - 1e-9),
