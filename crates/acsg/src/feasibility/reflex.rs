@@ -113,8 +113,9 @@ mod tests {
     fn the_holes_corner_on_the_peg_bottom_holds_with_another_contact_so_the_proof_leans_on_others() {
         // The square peg tilted in the plain hole: the hole's corner v5 on the peg's
         // bottom f2 never holds alone (the test below), yet the peg's corner v0 on the
-        // block's top f3 beside it makes a state, at the generator's witness. So a proof by the reflex corner says nothing of the states
-        // holding the contact with others, and stage 1 must still search for them.
+        // block's top f3 beside it makes a state, at the generator's witness. So a
+        // proof by the reflex corner says nothing of the states holding the contact
+        // with others, and stage 1 must still search for them.
         with_the_tilted_peg(|_, _, problem, bounds| {
             let single = [contact("v5", "f2", K::VertexFace)];
             assert_eq!(problem.last_exclusion(&single, &bounds), Some(Rule::ReflexCorner));
