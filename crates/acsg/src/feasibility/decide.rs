@@ -346,11 +346,12 @@ impl Problem<'_> {
 
     /// [`Problem::conditions`] for the last proofs ([`super::prover::Prover::last_links`]),
     /// with the contacts' normals compared first ([`super::normals`]). A decision
-    /// tries them only after its starts, although they are cheap and sound from the
-    /// start: the searches of candidates that hold only in the limit of a larger state
-    /// (a corner in a groove, its edge nearly along it) land on the slivers next to
-    /// that state, states no other search finds (the built-in example's bottom edge on
-    /// the floor with an upright edge on the wall and the top edges crossing).
+    /// tries them for a few boxes only before its starts ([`FIRST_LAST_BUDGET`]), and
+    /// at more length after them, although they are cheap and sound from the start:
+    /// the searches of candidates that hold only in the limit of a larger state (a
+    /// corner in a groove, its edge nearly along it) land on the slivers next to that
+    /// state, states no other search finds (the built-in example's bottom edge on the
+    /// floor with an upright edge on the wall and the top edges crossing).
     fn last_conditions(&self, target: &[PrincipalContact]) -> Result<Conditions, Rule> {
         self.last_conditions_with(target, |target| self.strict_turns(target))
     }
