@@ -87,6 +87,26 @@ proptest! {
         prop_assert_eq!(scene.penetration_excess(&pose), full);
     }
 
+    /// Called for nearby poses, as the optimiser calls it, the fast residual starts each
+    /// pair of pieces from the axis that answered for it at the last pose: still
+    /// exactly the positive part of the full depth.
+    #[test]
+    fn penetration_excess_at_nearby_poses_is_the_positive_part_of_the_depth(
+        t in vec3(-3.0, 3.0),
+        lift in -5.0f64..45.0,
+        q in (unit_vector(), -0.05f64..0.05).prop_map(|(axis, angle)| DQuat::from_axis_angle(axis, angle)),
+        steps in proptest::collection::vec((vec3(-0.05, 0.05), unit_vector(), -0.002f64..0.002), 1..6),
+    ) {
+        let (scene, _) = round_peg_in_hole();
+        let mut pose = DAffine3::from_rotation_translation(q, DVec3::new(t.x, t.y, t.z + lift));
+        let _ = scene.penetration_excess(&pose);
+        for (shift, axis, angle) in steps {
+            pose = DAffine3::from_rotation_translation(DQuat::from_axis_angle(axis, angle), shift) * pose;
+            let full = scene.penetration_depth(&pose).max(0.0);
+            prop_assert_eq!(scene.penetration_excess(&pose), full);
+        }
+    }
+
     /// The thresholded query (pairs dropped early) answers as the full depth does.
     #[test]
     fn penetrates_beyond_agrees_with_the_depth(

@@ -43,6 +43,12 @@ pub struct PenetrationReport {
     pub certificates: Vec<(usize, usize, DVec3, f64)>,
 }
 
+/// The round-off allowed, relative to the coordinates' size, when a hinted axis says a
+/// pair of pieces cannot penetrate as deep as another ([`penetration_excess`]): far
+/// above the error of a projection, so that the answer is exactly the one without
+/// hints.
+const HINT_ROUND_OFF: f64 = 1e-9;
+
 /// Pieces with more faces than this are compared over the facets of the Minkowski
 /// difference (module `gauss`) rather than over all pairs of edge directions.
 const LARGE_PIECE_FACES: usize = 24;
@@ -136,17 +142,58 @@ pub fn penetration_prepared(
 pub fn penetration_excess(fixed: &PreparedPieces, moving: &PreparedPieces, moving_to_fixed: &DAffine3) -> f64 {
     let mut pieces = PiecesAtPose::new(fixed, moving, moving_to_fixed);
     let mut excess: f64 = 0.0;
-    for i in 0..fixed.hulls.len() {
-        for j in 0..moving.hulls.len() {
-            // A pair penetrates by at most its boxes' overlap along any axis: one that
-            // cannot beat the deepest so far is dropped, and so is its SAT at the first
-            // axis that overlaps no more than that.
-            if -pieces.box_gap(i, j) > excess {
-                excess = excess.max(pieces.separate(i, j, excess).depth);
+    AXIS_HINTS.with_borrow_mut(|hints| {
+        let hints = hints.for_pieces(fixed, moving);
+        let per_fixed = moving.hulls.len();
+        for i in 0..fixed.hulls.len() {
+            for j in 0..per_fixed {
+                // A pair penetrates by at most its boxes' overlap along any axis: one
+                // that cannot beat the deepest so far is dropped, and so is its SAT at
+                // the first axis that overlaps no more than that; first the axis that
+                // answered for the pair last time (nearby poses mostly share it).
+                if -pieces.box_gap(i, j) > excess {
+                    let hint = &mut hints[i * per_fixed + j];
+                    if pieces.clearly_below(i, j, *hint, excess) {
+                        continue;
+                    }
+                    let separation = pieces.separate(i, j, excess);
+                    *hint = separation.axis;
+                    excess = excess.max(separation.depth);
+                }
             }
         }
-    }
+    });
     excess
+}
+
+/// Per thread, the axis that last answered each pair of pieces in
+/// [`penetration_excess`] (which searches, local optimisations and slides call for
+/// many nearby poses), for the pieces it was last called with.
+#[derive(Default)]
+struct AxisHints {
+    /// The prepared pieces (by address) the hints are for.
+    owner: (usize, usize),
+    axes: Vec<DVec3>,
+}
+
+impl AxisHints {
+    /// The hints for these pieces, all unset when they are not the last ones'. Any axis
+    /// is a safe hint (a pair's overlap along every axis is at least its penetration
+    /// depth), so a stale one, or one at a reused address, costs only its test.
+    fn for_pieces(&mut self, fixed: &PreparedPieces, moving: &PreparedPieces) -> &mut [DVec3] {
+        let owner = (std::ptr::from_ref(fixed) as usize, std::ptr::from_ref(moving) as usize);
+        let pairs = fixed.hulls.len() * moving.hulls.len();
+        if self.owner != owner || self.axes.len() != pairs {
+            self.owner = owner;
+            self.axes.clear();
+            self.axes.resize(pairs, DVec3::ZERO);
+        }
+        &mut self.axes
+    }
+}
+
+thread_local! {
+    static AXIS_HINTS: std::cell::RefCell<AxisHints> = std::cell::RefCell::default();
 }
 
 /// Whether the parts penetrate by more than `depth` (at least 0): the same answer as
@@ -193,6 +240,21 @@ impl<'p> PiecesAtPose<'p> {
     /// The gap between the boxes of fixed piece `i` and moving piece `j`.
     fn box_gap(&self, i: usize, j: usize) -> f64 {
         self.fixed.hulls[i].box_gap(&self.moved[j])
+    }
+
+    /// Whether fixed piece `i` and moving piece `j` overlap along `axis` (unit, or zero
+    /// for none) by less than `depth`, with room to spare for round-off: then they
+    /// penetrate by less than `depth`, which their SAT would find too (the same answer
+    /// for [`penetration_excess`], the pair unable to raise it).
+    fn clearly_below(&self, i: usize, j: usize, axis: DVec3, depth: f64) -> bool {
+        if axis == DVec3::ZERO {
+            return false;
+        }
+        let (min_a, max_a) = self.fixed.hulls[i].extent(axis);
+        let (min_b, max_b) = self.moved[j].extent(axis);
+        let overlap = (max_a - min_b).min(max_b - min_a);
+        let size = [min_a, max_a, min_b, max_b].iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        overlap <= depth - HINT_ROUND_OFF * size
     }
 
     /// SAT on fixed piece `i` and moving piece `j`: by Gauss maps when both have one.
