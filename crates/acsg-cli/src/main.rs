@@ -16,6 +16,11 @@ use clap::Parser;
 
 use crate::args::{Cli, UsageError};
 
+/// mimalloc rather than the system's allocator: a decision builds and drops many small
+/// vectors per box of poses (rows of linear programmes, cases, pieces' hulls).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match dispatch::run(cli) {
