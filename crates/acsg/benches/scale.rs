@@ -7,8 +7,11 @@
 //! (and of the candidates) in n, fitted by least squares over log n.
 //!
 //! `cargo bench -p acsg --bench scale`; `ACSG_SCALE_SIDES=8,16` runs only those n (the
-//! default is 8, 16, 32, 64, which takes long). Runs use every core, as `acsg generate`
-//! does.
+//! default is 8, 16, 32, 64, which takes long). `ACSG_SCALE_WORK_LIMIT=100000` gives
+//! each run that work limit (`acsg generate --work-limit`): the runs end, their graphs
+//! marked not complete, so that the figures show how far each n gets for the same work
+//! (the growth exponent then says how the time per unit of work grows). Runs use every
+//! core, as `acsg generate` does.
 
 use std::path::Path;
 use std::time::Instant;
@@ -61,23 +64,41 @@ fn main() -> Result<(), String> {
             .collect::<Result<_, _>>()?,
         Err(_) => SIDES.to_vec(),
     };
+    let work_limit = match std::env::var("ACSG_SCALE_WORK_LIMIT") {
+        Ok(limit) => Some(
+            limit
+                .trim()
+                .parse::<u64>()
+                .ok()
+                .filter(|&l| l > 0)
+                .ok_or_else(|| format!("ACSG_SCALE_WORK_LIMIT: `{limit}` is not a positive whole number"))?,
+        ),
+        Err(_) => None,
+    };
+    let options = Options {
+        work_limit,
+        ..Options::default()
+    };
     let bounds = Bounds::from_degrees([-2.0, -2.0, 0.0, -2.0, -2.0, -2.0], [2.0, 2.0, 45.0, 2.0, 2.0, 2.0])
         .map_err(|e| e.to_string())?;
     println!("n-gon peg over a chamfered n-gon hole; x, y ±2 mm, z 0-45 mm, angles ±2°; one run each, all cores");
+    if let Some(limit) = work_limit {
+        println!("work limit {limit} per run: a run that reaches it is not complete");
+    }
     println!(
-        "{:>4} {:>8} {:>7} {:>7} {:>10} {:>9} {:>10} {:>10} {:>9}",
-        "n", "PPC", "pieces", "states", "candidates", "searched", "local runs", "undecided", "wall s"
+        "{:>4} {:>8} {:>7} {:>7} {:>10} {:>9} {:>10} {:>10} {:>9} {:>9}",
+        "n", "PPC", "pieces", "states", "candidates", "searched", "local runs", "undecided", "complete", "wall s"
     );
     let (mut times, mut candidates) = (Vec::new(), Vec::new());
     for n in sides {
         let block = part(&format!("block_with_round_hole_{n}.off"))?;
         let peg = part(&format!("round_peg_{n}.off"))?;
         let started = Instant::now();
-        let graph = generate(&block, &peg, &bounds, &Options::default());
+        let graph = generate(&block, &peg, &bounds, &options);
         let seconds = started.elapsed().as_secs_f64();
         let s = &graph.stats;
         println!(
-            "{:>4} {:>8} {:>7} {:>7} {:>10} {:>9} {:>10} {:>10} {:>9.1}",
+            "{:>4} {:>8} {:>7} {:>7} {:>10} {:>9} {:>10} {:>10} {:>9} {:>9.1}",
             n,
             ppc_count(&block, &peg).total(),
             block.convex_pieces().len(),
@@ -86,6 +107,7 @@ fn main() -> Result<(), String> {
             s.stage1_searched + s.stage2_searched,
             s.stage1_optimisations + s.stage2_optimisations,
             s.undecided,
+            if graph.is_complete() { "yes" } else { "no" },
             seconds
         );
         times.push((n as f64, seconds));
