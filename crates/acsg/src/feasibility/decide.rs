@@ -218,8 +218,6 @@ const SLIVER_TURNS: usize = 8;
 /// as the arc they sweep) that it cannot exclude, trimmed: the limit poses of larger states that
 /// leave a candidate undecided stay open however small the box.
 const HALVING_FLOOR_REL: f64 = 4e-4;
-/// Runs of the exclusion tests [`Problem::exclude_settled`] adds, at most.
-const SETTLE_ROUNDS: usize = 3;
 /// Slabs [`Problem::trim`] tries from each end of an angle's range, at most.
 const TRIM_STEPS: usize = 24;
 /// The thinnest slab [`Problem::trim`] tries, as a share of what is left.
@@ -587,8 +585,8 @@ impl Problem<'_> {
     }
 
     /// A proof by halving alone over the whole bounds, depth first: each box tested
-    /// with the last proofs' conditions ([`Problem::exclude_settled`], no look-ahead)
-    /// and halved where it is widest, rotations weighed as the arc they sweep, the half
+    /// once with the last proofs' conditions (no look-ahead) and halved where it is
+    /// widest, rotations weighed as the arc they sweep, the half
     /// holding `toward` (the centre of the box the branch and prune left open) first.
     /// The box left open once `budget` boxes are examined (the next one) or a box no
     /// wider than `floor` stays open, its angles trimmed too ([`Problem::trim`]): the branch and prune's
@@ -645,7 +643,7 @@ impl Problem<'_> {
             }
             halving.boxes += 1;
             stats.boxes += 1;
-            match self.exclude_settled(target, conditions, &b) {
+            match self.exclude(target, conditions, Mode::All, &b, true) {
                 Err(rule) => {
                     halving.rules.insert(rule);
                 }
@@ -711,28 +709,6 @@ impl Problem<'_> {
             }
         }
         rotations
-    }
-
-    /// The exclusion tests of a box, run again on the box they narrow while it narrows
-    /// by a tenth or more in some component (propagation does not reach its fixed
-    /// point in one run), a few times at most.
-    fn exclude_settled(
-        &self,
-        target: &[PrincipalContact],
-        conditions: &Conditions,
-        b: &Bounds,
-    ) -> Result<Bounds, Rule> {
-        let mut narrowed = self.exclude(target, conditions, Mode::All, b, true)?;
-        let mut before = *b;
-        for _ in 0..SETTLE_ROUNDS {
-            let (w0, w1) = (before.width(), narrowed.width());
-            if !(0..6).any(|k| w1[k] < 0.9 * w0[k]) {
-                break;
-            }
-            before = narrowed;
-            narrowed = self.exclude(target, conditions, Mode::All, &narrowed, true)?;
-        }
-        Ok(narrowed)
     }
 
     /// The box with slabs of its angles cut off from either end where the exclusion
@@ -1691,43 +1667,6 @@ mod tests {
                 .contacts;
             assert!(loose.contains(&wall_on_side), "corner {c}: {loose:?}");
         }
-    }
-
-    #[test]
-    fn a_box_the_tests_narrow_falls_when_they_run_again_on_what_is_left() {
-        // The plain hole's corner v5 on the tilted peg's bottom edge e2, a box the
-        // halving meets: one run of the tests narrows it and leaves it open, and
-        // propagation has not settled; run again on what it left, the tests rule it
-        // out, so the box needs no split.
-        let (hole, peg) = (fixture("block_with_hole.off"), fixture("peg.off"));
-        let bounds = crate::testing::tilted_peg_bounds();
-        let problem = Problem::new(&hole, &peg, bounds, glam::DAffine3::IDENTITY);
-        let target = [contact("v5", "e2", K::VertexEdge)];
-        let Ok(conditions) = problem.last_conditions(&target) else {
-            panic!("no outright rule");
-        };
-        let b = Bounds::try_new(
-            [
-                -1.0,
-                -1.0,
-                39.68005700875224,
-                -3.7710483731031186e-6,
-                -0.008007453786095015,
-                0.0,
-            ],
-            [
-                -0.9186697081085347,
-                -0.9912788679797904,
-                39.72952582008638,
-                0.0004334139834746997,
-                -0.007526698936288144,
-                0.0,
-            ],
-        )
-        .unwrap();
-        let once = problem.exclude(&target, &conditions, Mode::All, &b, true);
-        assert!(once.is_ok_and(|narrowed| narrowed.width() != b.width()));
-        assert!(problem.exclude_settled(&target, &conditions, &b).is_err());
     }
 
     #[test]
