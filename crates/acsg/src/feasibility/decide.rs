@@ -586,8 +586,8 @@ impl Problem<'_> {
 
     /// A proof by halving alone over the whole bounds, depth first: each box tested
     /// once with the last proofs' conditions (no look-ahead) and halved where it is
-    /// widest, rotations weighed as the arc they sweep, the half
-    /// holding `toward` (the centre of the box the branch and prune left open) first.
+    /// widest, rotations weighed as the arc they sweep, the half holding `toward` (the
+    /// centre of the box the branch and prune left open) first.
     /// The box left open once `budget` boxes are examined (the next one) or a box no
     /// wider than `floor` stays open, its angles trimmed too ([`Problem::trim`]): the branch and prune's
     /// look-ahead weighs the halves' propagation, which near a limit pose of a larger
